@@ -1,0 +1,105 @@
+"""The ``gsi`` command: ``--version``, ``info``, ``check CASE.toml``, ``run CASE.toml``.
+
+Input errors print one line ``error: <key> = <value>: <what is allowed>`` and exit with
+status 2, never a traceback; a run that blows up prints its diagnosis and exits with 3.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import pathlib
+import sys
+
+import gsi
+from gsi.errors import GsiInputError, GsiRunError
+
+EXIT_INPUT, EXIT_RUN = 2, 3
+
+
+def _version_of(module: str, attr: str = "__version__") -> str:
+    try:
+        mod = importlib.import_module(module)
+    except Exception as exc:  # an optional package that is missing or broken
+        return f"not available ({type(exc).__name__})"
+    return str(getattr(mod, attr, "?"))
+
+
+def info() -> str:
+    """Versions of gsi and the stack, the MPI library and numba's thread count."""
+    lines = [f"gsi        {gsi.__version__}"]
+    for name in ("dolfinx", "numba", "numpy", "petsc4py", "mpi4py", "gmsh", "meshio", "pyvista"):
+        lines.append(f"{name:<10} {_version_of(name)}")
+    try:
+        from mpi4py import MPI
+        lines.append(f"MPI        {MPI.Get_library_version().splitlines()[0].strip()}")
+    except Exception as exc:
+        lines.append(f"MPI        not available ({type(exc).__name__})")
+    try:
+        import numba
+        lines.append(f"threads    {numba.config.NUMBA_NUM_THREADS} (numba)")
+    except Exception:
+        pass
+    return "\n".join(lines)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="gsi", description="granular-structure interaction toolkit")
+    p.add_argument("--version", action="version", version=f"gsi {gsi.__version__}")
+    sub = p.add_subparsers(dest="command")
+    sub.add_parser("info", help="versions of gsi and its stack")
+    c = sub.add_parser("check", help="validate a case file without running it")
+    c.add_argument("case", nargs="?", help="CASE.toml")
+    c.add_argument("--keys", action="store_true", help="list every key with unit and default")
+    r = sub.add_parser("run", help="run a case file")
+    r.add_argument("case", help="CASE.toml")
+    r.add_argument("--out", default=None, help="output directory (default out/<case name>)")
+    r.add_argument("--quick", action="store_true", help="a short version of the run")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        if args.command == "info":
+            print(info())
+            return 0
+        if args.command == "check":
+            return _check(args)
+        if args.command == "run":
+            return _run(args)
+        _parser().print_help()
+        return 0
+    except GsiInputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except GsiRunError as exc:
+        print(f"run stopped: {exc}", file=sys.stderr)
+        return EXIT_RUN
+
+
+def _check(args) -> int:
+    from gsi.config.case import Case, load_case
+    from gsi.config.schema import describe
+    if args.keys:
+        print("\n".join(describe(Case)))
+        return 0
+    if not args.case:
+        raise GsiInputError("check: give a case file (gsi check CASE.toml) or --keys")
+    case = load_case(args.case)
+    from gsi.drivers import check_case
+    check_case(case)
+    print(f"{args.case}: ok ({case.case.kind} case '{case.case.name}')")
+    return 0
+
+
+def _run(args) -> int:
+    from gsi.config.case import load_case
+    from gsi.drivers import run_case
+    case = load_case(args.case)
+    out = pathlib.Path(args.out) if args.out else pathlib.Path("out") / case.case.name
+    run_case(case, out=out, quick=args.quick)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
