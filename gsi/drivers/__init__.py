@@ -7,6 +7,8 @@ import pathlib
 
 DRIVERS = {
     "pour": "gsi.drivers.pour",
+    "thermal_silo": "gsi.drivers.thermal_silo",
+    "hopper_membrane": "gsi.drivers.hopper_membrane",
 }
 
 
