@@ -1,0 +1,475 @@
+r"""Linear elasticity on tetrahedra: static ``K u = f`` and dynamic ``M a + C v + K u = f``.
+
+Equations (DESIGN.md "Structure (FE) physics"), small strain, isotropic:
+
+.. math::
+    \varepsilon(u) = \tfrac12(\nabla u + \nabla u^T), \quad
+    \sigma = 2\mu\,\varepsilon + \lambda\,\mathrm{tr}(\varepsilon) I
+             - (3\lambda + 2\mu)\,\alpha\,(T - T_{ref})\, I
+
+    K = \int \sigma(u):\varepsilon(v), \quad M = \int \rho\, u\cdot v, \quad
+    C = a_0 M + a_1 K \ \text{(Rayleigh)}
+
+    f = \int \rho g\cdot v + \sum_{tags} \int t_{tag}\cdot v\, ds_{tag}
+        + \int (3\lambda+2\mu)\alpha (T - T_{ref})\, \mathrm{div}\, v + \text{nodal loads}
+
+Time integration: generalized-alpha (Chung & Hulbert 1993),
+
+.. math::
+    M a_{n+1-\alpha_m} + C v_{n+1-\alpha_f} + K u_{n+1-\alpha_f} = f_{n+1-\alpha_f}
+
+with Newmark's updates (beta, gamma). ``scheme="newmark"`` is the average-acceleration
+rule (alpha_m = alpha_f = 0, beta = 1/4, gamma = 1/2: unconditionally stable, no numerical
+damping, energy-conserving); ``scheme="generalized_alpha"`` takes the spectral radius at
+infinity ``rho_inf`` in [0, 1] (alpha_m = (2 rho_inf - 1)/(rho_inf + 1),
+alpha_f = rho_inf/(rho_inf + 1), gamma = 1/2 - alpha_m + alpha_f,
+beta = (1 - alpha_m + alpha_f)^2 / 4).
+
+The effective matrix ``c_M M + c_K K`` (Dirichlet rows/columns eliminated) is assembled
+and factorized once; each step builds only the right-hand side
+
+    b = f_{n+1-alpha_f} + M w_M + K w_K - A g
+
+from two matrix-vector products with the unconstrained M and K. The run starts from
+rest unless ``u``/``v`` are set; the initial acceleration is zero (it is not solved
+for: that would need a second factorization; the resulting start-up error is O(dt)).
+"""
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from gsi.errors import GsiInputError
+
+from . import compat
+from ._base import FactorOnceSolver, NodalLoads, VertexDofMap
+from .materials import get_material
+
+SCHEMES = ("static", "newmark", "generalized_alpha")
+
+
+def epsilon(u):
+    """Small-strain tensor (-)."""
+    return ufl.sym(ufl.grad(u))
+
+
+def sigma_mech(u, mu, lmbda):
+    """Mechanical Cauchy stress 2 mu eps + lambda tr(eps) I (Pa)."""
+    return 2.0 * mu * epsilon(u) + lmbda * ufl.tr(epsilon(u)) * ufl.Identity(len(u))
+
+
+def von_mises(s):
+    """von Mises equivalent stress sqrt(3/2 s_dev : s_dev) (Pa)."""
+    s_dev = s - ufl.tr(s) / 3.0 * ufl.Identity(3)
+    return ufl.sqrt(1.5 * ufl.inner(s_dev, s_dev))
+
+
+def newmark_parameters(scheme: str, rho_inf: float = 1.0) -> dict:
+    """alpha_m, alpha_f, beta, gamma of the named scheme."""
+    if scheme == "newmark":
+        return dict(alpha_m=0.0, alpha_f=0.0, beta=0.25, gamma=0.5)
+    if scheme == "generalized_alpha":
+        if not 0.0 <= rho_inf <= 1.0:
+            raise GsiInputError(f"structure.rho_inf = {rho_inf!r}: must be in [0, 1]")
+        am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
+        af = rho_inf / (rho_inf + 1.0)
+        return dict(alpha_m=am, alpha_f=af, beta=0.25 * (1.0 - am + af) ** 2,
+                    gamma=0.5 - am + af)
+    raise GsiInputError(f"structure.scheme = {scheme!r}: must be one of {list(SCHEMES)}")
+
+
+class Elasticity:
+    """Linear elastic structure, static or dynamic.
+
+    Parameters
+    ----------
+    structure : meshes.StructureMesh
+        Mesh with facet tags (names in ``structure.tags``).
+    material : StructuralMaterial or str or dict
+        Material (library name, table, or object).
+    degree : int
+        Lagrange degree, 1 or 2 (P2 avoids the bending stiffness of P1 thin walls).
+    scheme : {"static", "newmark", "generalized_alpha"}
+        Static solve or time integrator.
+    dt : float
+        Time step (s), required by the dynamic schemes.
+    rho_inf : float
+        Spectral radius at infinite frequency for "generalized_alpha" (default 1: none of
+        the high-frequency damping; 0.8 is common).
+    rayleigh : (float, float)
+        Rayleigh damping C = a0 M + a1 K: (a0 (1/s), a1 (s)).
+    gravity : sequence of 3 float
+        Body acceleration (m/s^2); default none.
+    T_ref : float
+        Stress-free temperature (K or degC, as the temperatures given).
+    factorization : {"lu", "cholesky"}
+        MUMPS factorization of the effective matrix.
+
+    Notes
+    -----
+    Under MPI every method is collective (call it on every rank), except
+    ``add_nodal_loads``, ``clear_nodal_loads``, ``set_traction`` and ``set_gravity``
+    (local). Set the supports
+    (:meth:`clamp`) before the first :meth:`solve`/:meth:`step`; tractions, gravity,
+    temperature and nodal loads may change between steps.
+    """
+
+    def __init__(self, structure, material, *, degree: int = 1, scheme: str = "static",
+                 dt: float | None = None, rho_inf: float = 1.0, rayleigh=(0.0, 0.0),
+                 gravity=(0.0, 0.0, 0.0), T_ref: float = 0.0, factorization: str = "lu"):
+        if degree not in (1, 2):
+            raise GsiInputError(f"structure.degree = {degree!r}: must be 1 or 2")
+        if scheme not in SCHEMES:
+            raise GsiInputError(f"structure.scheme = {scheme!r}: must be one of {list(SCHEMES)}")
+        if scheme != "static" and not (dt is not None and np.isfinite(dt) and dt > 0):
+            raise GsiInputError(f"structure.dt = {dt!r}: must be > 0 (s) for scheme {scheme!r}")
+        if len(rayleigh) != 2 or min(rayleigh) < 0:
+            raise GsiInputError(f"structure.rayleigh = {rayleigh!r}: must be two numbers >= 0 (a0 1/s, a1 s)")
+        self.structure = structure
+        self.mesh = mesh = structure.mesh
+        self.comm = mesh.comm
+        self.material = get_material(material)
+        self.degree, self.scheme, self.dt = degree, scheme, dt
+        self.factorization = factorization
+        self.params = newmark_parameters(scheme, rho_inf) if scheme != "static" else {}
+        self.rayleigh = (float(rayleigh[0]), float(rayleigh[1]))
+
+        self.V = compat.vector_space(mesh, degree)
+        self.u = compat.function(self.V, "displacement")
+        self.v = compat.function(self.V, "velocity")
+        self.a = compat.function(self.V, "acceleration")
+        self.Q = compat.scalar_space(mesh, 1)
+        self.T = compat.function(self.Q, "temperature")
+        self.T_ref = compat.constant(mesh, float(T_ref))
+        self.T.x.array[:] = float(T_ref)
+        self.g = compat.constant(mesh, np.asarray(gravity, dtype=float))
+        self.tractions = {name: compat.constant(mesh, np.zeros(3))
+                          for name in structure.tags if name != "volume"}
+        self.vmap = VertexDofMap(self.V)
+        self.nodal = NodalLoads(self.vmap)
+        self._bc_specs: list[tuple[str, tuple, np.ndarray]] = []
+        self.bcs = []
+        self._bc_dofs_by_tag: dict[str, np.ndarray] = {}
+        self.t = 0.0
+        self.n_steps = 0
+        self._solver: FactorOnceSolver | None = None
+
+    # ------------------------------------------------------------------ set-up API
+    def clamp(self, tag: str, *, components=None, value=None) -> None:
+        """Prescribe the displacement on the surface ``tag`` (Dirichlet support).
+
+        Parameters
+        ----------
+        tag : str
+            Surface name, e.g. "support".
+        components : sequence of int, optional
+            Constrained components (0 = x, 1 = y, 2 = z); default all three (clamped).
+        value : sequence of float, optional
+            Prescribed displacement per constrained component (m); default 0.
+        """
+        self._check_not_set_up("clamp")
+        tag_value = self.structure.facet_tag(tag)
+        comps = (0, 1, 2) if components is None else tuple(int(c) for c in components)
+        if not comps or any(c not in (0, 1, 2) for c in comps) or len(set(comps)) != len(comps):
+            raise GsiInputError(f"structure.supports.{tag}.components = {components!r}: "
+                                "must be distinct values of 0, 1, 2")
+        val = np.zeros(len(comps)) if value is None else np.asarray(value, dtype=float).ravel()
+        if val.size != len(comps):
+            raise GsiInputError(f"structure.supports.{tag}.value = {value!r}: must have "
+                                f"{len(comps)} entries (m)")
+        self._bc_specs.append((tag, comps, val))
+        facets = compat.meshtag_find(self.structure.facet_tags, tag_value)
+        fdim = self.mesh.topology.dim - 1
+        owned = []
+        for c, vc in zip(comps, val):
+            Vc = self.V.sub(c)
+            dofs = compat.locate_dofs_topological(Vc, fdim, facets)
+            bc = compat.dirichletbc(PETSc.ScalarType(vc), dofs, Vc)
+            self.bcs.append(bc)
+            owned.append(compat.bc_dofs_owned(bc))
+        prev = self._bc_dofs_by_tag.get(tag, np.zeros(0, dtype=np.int64))
+        self._bc_dofs_by_tag[tag] = np.unique(np.concatenate([prev] + owned))
+
+    def set_traction(self, tag: str, traction) -> None:
+        """Uniform surface traction on ``tag`` (Pa), vector (3,); may change every step."""
+        if tag not in self.tractions:
+            self.structure.facet_tag(tag)
+        t = np.asarray(traction, dtype=float).ravel()
+        if t.size != 3 or not np.all(np.isfinite(t)):
+            raise GsiInputError(f"structure.tractions.{tag} = {traction!r}: must be 3 numbers (Pa)")
+        self.tractions[tag].value[:] = t
+
+    def set_gravity(self, g) -> None:
+        """Body acceleration (m/s^2), vector (3,)."""
+        self.g.value[:] = np.asarray(g, dtype=float).ravel()
+
+    def set_temperature(self, T) -> None:
+        """Temperature field loading the thermal strain: a Function on the same mesh, or a
+        number (uniform) (K or degC, as ``T_ref``)."""
+        if np.ndim(T) == 0 and not hasattr(T, "function_space"):
+            self.T.x.array[:] = float(T)
+        else:
+            compat.interpolate_function(self.T, T)
+        compat.scatter_forward(self.T)
+
+    def add_nodal_loads(self, global_ids, forces) -> None:
+        """Add point forces (n, 3) (N) at mesh vertices given by global vertex ids (n,).
+
+        Global vertex id = gmsh node tag - 1 (``mesh.geometry.input_global_indices``).
+        The forces act from the next solve/step on, until :meth:`clear_nodal_loads`.
+        Every rank keeps the loads at the vertices it owns (see ``NodalLoads.add``).
+        """
+        self.nodal.add(global_ids, forces)
+
+    def clear_nodal_loads(self) -> None:
+        self.nodal.clear()
+
+    @property
+    def n_factorizations(self) -> int:
+        """Number of factorizations of the effective matrix so far (1 after set-up)."""
+        return 0 if self._solver is None else self._solver.n_factorizations
+
+    @property
+    def n_dofs(self) -> int:
+        imap, bs = compat.dof_index_map(self.V)
+        return imap.size_global * bs
+
+    # ------------------------------------------------------------------ assembly
+    def _check_not_set_up(self, what: str) -> None:
+        if self._solver is not None:
+            raise GsiInputError(f"structure.{what}: supports must be set before the first solve "
+                                "(the matrix is factorized once)")
+
+    def _setup(self) -> None:
+        if self._solver is not None:
+            return
+        m = self.material
+        mu = compat.constant(self.mesh, m.mu)
+        lmbda = compat.constant(self.mesh, m.lmbda)
+        rho = compat.constant(self.mesh, m.rho)
+        kappa = compat.constant(self.mesh, (3.0 * m.lmbda + 2.0 * m.mu) * m.alpha)
+        self._mu, self._lmbda, self._kappa = mu, lmbda, kappa
+        u, w = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
+        dx = compat.measure("dx", self.mesh)
+        ds = compat.measure("ds", self.mesh, self.structure.facet_tags)
+        k_form = ufl.inner(sigma_mech(u, mu, lmbda), epsilon(w)) * dx
+        m_form = rho * ufl.inner(u, w) * dx
+        if self.scheme == "static":
+            c_M, c_K = 0.0, 1.0
+        else:
+            p, dt = self.params, self.dt
+            a0, a1 = self.rayleigh
+            c0 = 1.0 / (p["beta"] * dt**2)
+            c4 = p["gamma"] / (p["beta"] * dt)
+            c_M = (1.0 - p["alpha_m"]) * c0 + (1.0 - p["alpha_f"]) * c4 * a0
+            c_K = (1.0 - p["alpha_f"]) * (1.0 + c4 * a1)
+        a_eff = c_K * k_form if c_M == 0.0 else c_M * m_form + c_K * k_form
+        f_form = ufl.inner(rho * self.g, w) * dx \
+            + kappa * (self.T - self.T_ref) * ufl.div(w) * dx
+        for name, t in self.tractions.items():
+            f_form += ufl.inner(t, w) * ds(self.structure.tags[name])
+        self._a_eff = compat.form(a_eff)
+        self._f = compat.form(f_form)
+        self._K = compat.assemble_matrix(compat.form(k_form))
+        self._M = compat.assemble_matrix(compat.form(m_form)) if self.scheme != "static" else None
+        A = compat.assemble_matrix(self._a_eff, self.bcs)
+        self._A = A
+        self._b = compat.create_vector(self._f)
+        self._F = self._b.duplicate()            # f_{n+1} (owned values)
+        self._F_old = self._b.duplicate()        # f_n
+        self._F_old.set(0.0)
+        self._tmp = self._b.duplicate()
+        self._wM = self._b.duplicate()
+        self._wK = self._b.duplicate()
+        self._lift = compat.create_vector(self._f)   # -A g (constant Dirichlet values)
+        with self._lift.localForm() as loc:
+            loc.set(0.0)
+        compat.apply_lifting_and_accumulate(self._lift, self._a_eff, self.bcs)
+        self._solver = FactorOnceSolver(A, self.comm, factorization=self.factorization)
+        self._solver.factorize()
+        self._sigma_expr = None
+
+    def _assemble_load(self, out: PETSc.Vec) -> None:
+        """out <- f (traction + body + thermal + nodal), owned values, no Dirichlet rows."""
+        compat.assemble_vector_ghosted(out, self._f)
+        out.array[:] += self.nodal.values
+
+    def load_vector(self) -> PETSc.Vec:
+        """The current external load vector f (N), before Dirichlet rows are set."""
+        self._setup()
+        self._assemble_load(self._F)
+        return self._F
+
+    def load_sum(self) -> np.ndarray:
+        """Sum over all vertices of the assembled load vector per component (N), (3,)."""
+        F = self.load_vector().array.reshape(-1, 3)
+        return self.comm.allreduce(F.sum(axis=0), op=MPI.SUM)
+
+    # ------------------------------------------------------------------ solving
+    def solve(self):
+        """Static solve K u = f. Returns the displacement Function (m)."""
+        if self.scheme != "static":
+            raise GsiInputError(f"structure.scheme = {self.scheme!r}: call step(), not solve()")
+        self._setup()
+        self._assemble_load(self._F)
+        b = self._b
+        self._F.copy(b)
+        b.axpy(1.0, self._lift)
+        compat.set_bc(b, self.bcs)
+        self._solver.solve(b, compat.petsc_vec(self.u))
+        compat.scatter_forward(self.u)
+        return self.u
+
+    def step(self):
+        """Advance one time step dt with the current loads (held over the step).
+
+        Returns the displacement Function at the new time (m).
+        """
+        if self.scheme == "static":
+            raise GsiInputError("structure.scheme = 'static': call solve(), not step()")
+        self._setup()
+        p, dt = self.params, self.dt
+        am, af, beta, gamma = p["alpha_m"], p["alpha_f"], p["beta"], p["gamma"]
+        a0, a1 = self.rayleigh
+        c0, c1, c2 = 1.0 / (beta * dt**2), 1.0 / (beta * dt), 0.5 / beta - 1.0
+        c4, c5, c6 = gamma / (beta * dt), gamma / beta - 1.0, dt * (0.5 * gamma / beta - 1.0)
+        un, vn, an = (compat.petsc_vec(f) for f in (self.u, self.v, self.a))
+        u_old = self.u.x.array.copy()
+        v_old = self.v.x.array.copy()
+        a_old = self.a.x.array.copy()
+        # w_M = (1-am)(c0 u + c1 v + c2 a) - am a ; w_C = (1-af)(c4 u + c5 v + c6 a) - af v
+        wM, wK, tmp = self._wM, self._wK, self._tmp
+        wM.array[:] = 0.0
+        wM.axpy((1.0 - am) * c0, un)
+        wM.axpy((1.0 - am) * c1, vn)
+        wM.axpy((1.0 - am) * c2 - am, an)
+        # C w_C = a0 M w_C + a1 K w_C: w_C goes to tmp
+        tmp.array[:] = 0.0
+        tmp.axpy((1.0 - af) * c4, un)
+        tmp.axpy((1.0 - af) * c5 - af, vn)
+        tmp.axpy((1.0 - af) * c6, an)
+        wM.axpy(a0, tmp)
+        wK.array[:] = 0.0
+        wK.axpy(a1, tmp)
+        wK.axpy(-af, un)
+        self._assemble_load(self._F)
+        b = self._b
+        b.array[:] = (1.0 - af) * self._F.array + af * self._F_old.array
+        self._M.mult(wM, tmp)
+        b.axpy(1.0, tmp)
+        self._K.mult(wK, tmp)
+        b.axpy(1.0, tmp)
+        b.axpy(1.0, self._lift)
+        compat.set_bc(b, self.bcs)
+        self._solver.solve(b, un)
+        compat.scatter_forward(self.u)
+        # Newmark updates (local arrays incl. ghosts, all consistent)
+        u_new = self.u.x.array
+        a_new = c0 * (u_new - u_old) - c1 * v_old - c2 * a_old
+        self.v.x.array[:] = v_old + dt * ((1.0 - gamma) * a_old + gamma * a_new)
+        self.a.x.array[:] = a_new
+        self._F.copy(self._F_old)
+        self.t += dt
+        self.n_steps += 1
+        return self.u
+
+    # ------------------------------------------------------------------ state
+    def state(self) -> dict:
+        """Plain arrays of this rank's time-integration state (for checkpoints):
+        owned dof values of u, v, a and of the previous load vector, t, n_steps.
+        A restart must use the same mesh and number of ranks."""
+        n = compat.dof_index_map(self.V)[0].size_local * 3
+        st = dict(u=self.u.x.array[:n].copy(), v=self.v.x.array[:n].copy(),
+                  a=self.a.x.array[:n].copy(), t=np.float64(self.t),
+                  n_steps=np.int64(self.n_steps), n_ranks=np.int64(self.comm.size))
+        if self._solver is not None:
+            st["F_old"] = self._F_old.array.copy()
+        return st
+
+    def set_state(self, st: dict) -> None:
+        """Restore :meth:`state` (collective)."""
+        if int(st["n_ranks"]) != self.comm.size:
+            raise GsiInputError(f"restart n_ranks = {int(st['n_ranks'])}: must equal the "
+                                f"current number of MPI ranks ({self.comm.size})")
+        n = compat.dof_index_map(self.V)[0].size_local * 3
+        for name in ("u", "v", "a"):
+            f = getattr(self, name)
+            f.x.array[:n] = st[name]
+            compat.scatter_forward(f)
+        self.t, self.n_steps = float(st["t"]), int(st["n_steps"])
+        if "F_old" in st:
+            self._setup()
+            self._F_old.array[:] = st["F_old"]
+
+    # ------------------------------------------------------------------ results
+    def reaction(self, tag: str | None = None) -> np.ndarray:
+        """Total support reaction force (N), (3,): the residual M a + C v + K u - f summed
+        over the constrained dofs of ``tag`` (all supports if None). It is the force the
+        supports exert on the structure."""
+        self._setup()
+        if tag is None:
+            dofs = np.unique(np.concatenate([np.zeros(0, np.int64)] + list(self._bc_dofs_by_tag.values())))
+        else:
+            if tag not in self._bc_dofs_by_tag:
+                raise GsiInputError(f"structure.reaction tag = {tag!r}: must be a clamped tag "
+                                    f"{sorted(self._bc_dofs_by_tag)}")
+            dofs = self._bc_dofs_by_tag[tag]
+        r = self._tmp
+        self._K.mult(compat.petsc_vec(self.u), r)
+        res = r.array.copy()
+        if self._M is not None:
+            a0, a1 = self.rayleigh
+            self._M.mult(compat.petsc_vec(self.a), r)
+            res += r.array
+            if a0 or a1:
+                self._M.mult(compat.petsc_vec(self.v), r)
+                res += a0 * r.array
+                self._K.mult(compat.petsc_vec(self.v), r)
+                res += a1 * r.array
+        self._assemble_load(self._F)
+        res -= self._F.array
+        out = np.zeros(3)
+        np.add.at(out, dofs % 3, res[dofs])
+        return self.comm.allreduce(out, op=MPI.SUM)
+
+    def energies(self) -> dict:
+        """Kinetic 1/2 v.Mv and strain 1/2 u.Ku energies (J); external-load potential -f.u."""
+        self._setup()
+        r = self._tmp
+        self._K.mult(compat.petsc_vec(self.u), r)
+        strain = 0.5 * r.dot(compat.petsc_vec(self.u))
+        kinetic = 0.0
+        if self._M is not None:
+            self._M.mult(compat.petsc_vec(self.v), r)
+            kinetic = 0.5 * r.dot(compat.petsc_vec(self.v))
+        self._assemble_load(self._F)
+        potential = -self._F.dot(compat.petsc_vec(self.u))
+        return dict(kinetic=kinetic, strain=strain, load_potential=potential)
+
+    def sigma(self):
+        """UFL expression of the full stress (mechanical minus thermal) (Pa)."""
+        self._setup()
+        return sigma_mech(self.u, self._mu, self._lmbda) \
+            - self._kappa * (self.T - self.T_ref) * ufl.Identity(3)
+
+    def von_mises(self, out=None):
+        """von Mises stress interpolated into DG0 (cell values) (Pa); returns the Function."""
+        if out is None:
+            if getattr(self, "_vm", None) is None:
+                self._vm = compat.function(compat.scalar_space(self.mesh, 0, "DG"), "von_mises")
+            out = self._vm
+        compat.interpolate_expression(out, von_mises(self.sigma()))
+        return out
+
+    def max_displacement(self) -> float:
+        """Largest nodal displacement magnitude over all ranks (m)."""
+        imap, bs = compat.dof_index_map(self.V)
+        U = self.u.x.array[: imap.size_local * bs].reshape(-1, 3)
+        local = float(np.sqrt((U**2).sum(axis=1)).max()) if U.size else 0.0
+        return self.comm.allreduce(local, op=MPI.MAX)
+
+    def displacement_norm(self) -> float:
+        """Euclidean norm of the global displacement dof vector (m)."""
+        return compat.petsc_vec(self.u).norm()

@@ -1,0 +1,297 @@
+r"""Transient heat conduction in the structure, theta-scheme, factorized once.
+
+.. math::
+    \rho c\, \partial_t T = \nabla\cdot(k \nabla T) + s \quad \text{in the body}
+
+    T = T_D \ \text{(Dirichlet tags)}, \quad
+    -k\nabla T\cdot n = -q \ \text{(prescribed flux } q \text{ into the body, W/m}^2), \quad
+    -k\nabla T\cdot n = h (T - T_\infty) \ \text{(convection)}
+
+plus nodal heat loads (W) at vertices. With the capacity matrix C and the conduction +
+convection matrix K, one step of size dt is
+
+.. math::
+    (C/dt + \theta K)\, T_{n+1} = (C/dt - (1-\theta) K)\, T_n + F
+
+where F (flux, convective ambient term, source, nodal loads) is held over the step.
+theta = 1 (backward Euler, default) is L-stable and does not oscillate after a sudden
+change of a boundary temperature; theta = 1/2 (Crank-Nicolson) is second order.
+The matrix C/dt + theta K is assembled and factorized once; h of each tag must be set
+before the first step (T_ambient, q and the nodal loads may change every step).
+"""
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from gsi.errors import GsiInputError
+
+from . import compat
+from ._base import FactorOnceSolver, NodalLoads, VertexDofMap
+from .materials import get_material
+
+
+class Heat:
+    """Transient heat conduction.
+
+    Parameters
+    ----------
+    structure : meshes.StructureMesh
+    material : StructuralMaterial or str or dict
+        Uses rho (kg/m^3), c (J/(kg K)) and k (W/(m K)).
+    dt : float
+        Time step (s).
+    theta : float
+        0.5 <= theta <= 1 (default 1, backward Euler).
+    T_initial : float
+        Uniform initial temperature (K or degC).
+    degree : int
+        Lagrange degree 1 or 2.
+    factorization : {"lu", "cholesky"}
+
+    Notes
+    -----
+    Under MPI every method is collective except ``set_*``/``add_nodal_heat``.
+    """
+
+    def __init__(self, structure, material, *, dt: float, theta: float = 1.0,
+                 T_initial: float = 0.0, degree: int = 1, factorization: str = "lu"):
+        if not (dt is not None and np.isfinite(dt) and dt > 0):
+            raise GsiInputError(f"structure.heat.dt = {dt!r}: must be > 0 (s)")
+        if not 0.5 <= theta <= 1.0:
+            raise GsiInputError(f"structure.heat.theta = {theta!r}: must be in [0.5, 1]")
+        if degree not in (1, 2):
+            raise GsiInputError(f"structure.heat.degree = {degree!r}: must be 1 or 2")
+        self.structure = structure
+        self.mesh = mesh = structure.mesh
+        self.comm = mesh.comm
+        self.material = get_material(material)
+        self.dt, self.theta, self.degree = float(dt), float(theta), degree
+        self.factorization = factorization
+        self.V = compat.scalar_space(mesh, degree)
+        self.T = compat.function(self.V, "temperature")
+        self.T.x.array[:] = float(T_initial)
+        self.T_old = compat.function(self.V, "temperature_old")
+        names = [n for n in structure.tags if n != "volume"]
+        self.h = {n: 0.0 for n in names}
+        self.T_amb = {n: compat.constant(mesh, 0.0) for n in names}
+        self.q = {n: compat.constant(mesh, 0.0) for n in names}
+        self.source = compat.constant(mesh, 0.0)
+        self.vmap = VertexDofMap(self.V)
+        self.nodal = NodalLoads(self.vmap)
+        self.bcs = []
+        self._bc_dofs_by_tag: dict[str, np.ndarray] = {}
+        self.t = 0.0
+        self.n_steps = 0
+        self._solver: FactorOnceSolver | None = None
+
+    # ------------------------------------------------------------------ set-up API
+    def _check_not_set_up(self, what):
+        if self._solver is not None:
+            raise GsiInputError(f"structure.heat.{what}: must be set before the first step "
+                                "(the matrix is factorized once)")
+
+    def fix_temperature(self, tag: str, T: float) -> None:
+        """Dirichlet: temperature ``T`` on surface ``tag`` (K or degC)."""
+        self._check_not_set_up("fixed_temperature")
+        tv = self.structure.facet_tag(tag)
+        facets = compat.meshtag_find(self.structure.facet_tags, tv)
+        dofs = compat.locate_dofs_topological(self.V, self.mesh.topology.dim - 1, facets)
+        bc = compat.dirichletbc(PETSc.ScalarType(T), dofs, self.V)
+        self.bcs.append(bc)
+        self._bc_dofs_by_tag[tag] = compat.bc_dofs_owned(bc)
+
+    def set_convection(self, tag: str, h: float, T_ambient: float) -> None:
+        """Convection on ``tag``: flux out h (T - T_ambient); h in W/(m^2 K).
+
+        h is fixed at the first step; T_ambient may change later."""
+        self.structure.facet_tag(tag)
+        if not (np.isfinite(h) and h >= 0):
+            raise GsiInputError(f"structure.heat.convection.{tag}.h = {h!r}: must be >= 0 (W/(m^2 K))")
+        if self._solver is not None and h != self.h[tag]:
+            self._check_not_set_up(f"convection.{tag}.h")
+        self.h[tag] = float(h)
+        self.T_amb[tag].value = float(T_ambient)
+
+    def set_flux(self, tag: str, q: float) -> None:
+        """Prescribed heat flux into the body through ``tag`` (W/m^2); may change every step."""
+        self.structure.facet_tag(tag)
+        self.q[tag].value = float(q)
+
+    def set_source(self, s: float) -> None:
+        """Uniform volumetric heat source (W/m^3)."""
+        self.source.value = float(s)
+
+    def add_nodal_heat(self, global_ids, Q) -> None:
+        """Add heat loads ``Q`` (n,) (W, into the body) at global vertex ids (n,)."""
+        self.nodal.add(global_ids, Q)
+
+    def clear_nodal_heat(self) -> None:
+        self.nodal.clear()
+
+    @property
+    def n_factorizations(self) -> int:
+        return 0 if self._solver is None else self._solver.n_factorizations
+
+    @property
+    def n_dofs(self) -> int:
+        return compat.dof_index_map(self.V)[0].size_global
+
+    # ------------------------------------------------------------------ assembly
+    def _setup(self):
+        if self._solver is not None:
+            return
+        m = self.material
+        rho_c = compat.constant(self.mesh, m.rho * m.c)
+        k = compat.constant(self.mesh, m.k)
+        self._k = k
+        T, w = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
+        dx = compat.measure("dx", self.mesh)
+        ds = compat.measure("ds", self.mesh, self.structure.facet_tags)
+        tags = self.structure.tags
+        self._ds = ds
+        c_form = rho_c * T * w * dx
+        k_form = k * ufl.inner(ufl.grad(T), ufl.grad(w)) * dx
+        for n, h in self.h.items():
+            if h > 0.0:
+                k_form += compat.constant(self.mesh, h) * T * w * ds(tags[n])
+        f_form = self.source * w * dx
+        for n in self.h:
+            f_form += self.q[n] * w * ds(tags[n])
+            if self.h[n] > 0.0:
+                f_form += compat.constant(self.mesh, self.h[n]) * self.T_amb[n] * w * ds(tags[n])
+        theta, dt = self.theta, self.dt
+        self._a = compat.form((1.0 / dt) * c_form + theta * k_form)
+        self._C = compat.assemble_matrix(compat.form(c_form))
+        self._Kmat = compat.assemble_matrix(compat.form(k_form))
+        self._f = compat.form(f_form)
+        self._A = compat.assemble_matrix(self._a, self.bcs)
+        self._b = compat.create_vector(self._f)
+        self._F = self._b.duplicate()
+        self._tmp = self._b.duplicate()
+        self._lift = compat.create_vector(self._f)
+        with self._lift.localForm() as loc:
+            loc.set(0.0)
+        compat.apply_lifting_and_accumulate(self._lift, self._a, self.bcs)
+        self._solver = FactorOnceSolver(self._A, self.comm, factorization=self.factorization)
+        self._solver.factorize()
+
+    def _assemble_load(self, out):
+        compat.assemble_vector_ghosted(out, self._f)
+        out.array[:] += self.nodal.values
+
+    def step(self):
+        """Advance one step dt; returns the temperature Function."""
+        self._setup()
+        theta, dt = self.theta, self.dt
+        Tn = compat.petsc_vec(self.T)
+        self.T_old.x.array[:] = self.T.x.array
+        self._assemble_load(self._F)
+        b, tmp = self._b, self._tmp
+        self._F.copy(b)
+        self._C.mult(Tn, tmp)
+        b.axpy(1.0 / dt, tmp)
+        if theta < 1.0:
+            self._Kmat.mult(Tn, tmp)
+            b.axpy(-(1.0 - theta), tmp)
+        b.axpy(1.0, self._lift)
+        compat.set_bc(b, self.bcs)
+        self._solver.solve(b, Tn)
+        compat.scatter_forward(self.T)
+        self.t += dt
+        self.n_steps += 1
+        return self.T
+
+    # ------------------------------------------------------------------ state
+    def state(self) -> dict:
+        """Plain arrays of this rank's state (owned T values, t, n_steps) for checkpoints."""
+        n = compat.dof_index_map(self.V)[0].size_local
+        return dict(T=self.T.x.array[:n].copy(), t=np.float64(self.t),
+                    n_steps=np.int64(self.n_steps), n_ranks=np.int64(self.comm.size))
+
+    def set_state(self, st: dict) -> None:
+        """Restore :meth:`state` (collective; same mesh and number of ranks)."""
+        if int(st["n_ranks"]) != self.comm.size:
+            raise GsiInputError(f"restart n_ranks = {int(st['n_ranks'])}: must equal the "
+                                f"current number of MPI ranks ({self.comm.size})")
+        n = compat.dof_index_map(self.V)[0].size_local
+        self.T.x.array[:n] = st["T"]
+        compat.scatter_forward(self.T)
+        self.t, self.n_steps = float(st["t"]), int(st["n_steps"])
+
+    # ------------------------------------------------------------------ results
+    def dirichlet_heat_flow(self, tag: str | None = None) -> float:
+        """Heat flow into the body through the fixed-temperature dofs (W) over the last
+        step: the residual C (T_{n+1} - T_n)/dt + K T_theta - F at those dofs (consistent
+        with the discrete energy balance)."""
+        self._setup()
+        if tag is None:
+            dofs = np.unique(np.concatenate([np.zeros(0, np.int64)] + list(self._bc_dofs_by_tag.values())))
+        else:
+            dofs = self._bc_dofs_by_tag[tag]
+        theta, dt = self.theta, self.dt
+        Tn1 = self.T.x.array.copy()
+        dT = compat.function(self.V)
+        dT.x.array[:] = (Tn1 - self.T_old.x.array) / dt
+        tmp = self._tmp
+        self._C.mult(compat.petsc_vec(dT), tmp)
+        res = tmp.array.copy()
+        dT.x.array[:] = theta * Tn1 + (1.0 - theta) * self.T_old.x.array
+        self._Kmat.mult(compat.petsc_vec(dT), tmp)
+        res += tmp.array
+        self._assemble_load(self._F)
+        res -= self._F.array
+        return self.comm.allreduce(float(res[dofs].sum()), op=MPI.SUM)
+
+    def heat_flow(self, tag: str) -> float:
+        """Heat flow into the body through surface ``tag`` (W), from the boundary data:
+        the Dirichlet residual (:meth:`dirichlet_heat_flow`) on fixed-temperature tags,
+        int q + h (T_ambient - T) ds on the others (0 on insulated tags). Nodal heat loads
+        are not included (see :meth:`nodal_heat`)."""
+        self._setup()
+        if tag in self._bc_dofs_by_tag:
+            return self.dirichlet_heat_flow(tag)
+        self.structure.facet_tag(tag)
+        if not hasattr(self, "_bflux_forms"):
+            self._bflux_forms = {}
+        if tag not in self._bflux_forms:
+            ds = self._ds(self.structure.tags[tag])
+            expr = self.q[tag] * ds
+            if self.h[tag] > 0.0:
+                expr += compat.constant(self.mesh, self.h[tag]) * (self.T_amb[tag] - self.T) * ds
+            self._bflux_forms[tag] = compat.form(expr)
+        return compat.assemble_scalar(self._bflux_forms[tag], self.comm)
+
+    def nodal_heat(self) -> float:
+        """Total of the nodal heat loads currently applied (W)."""
+        return self.comm.allreduce(float(self.nodal.values.sum()), op=MPI.SUM)
+
+    def surface_heat_flow(self, tag: str) -> float:
+        """Conductive heat flow into the body through surface ``tag``, int k grad T . n ds
+        (W), from the gradient of the discrete field (first order on P1)."""
+        self._setup()
+        if not hasattr(self, "_flux_forms"):
+            n = ufl.FacetNormal(self.mesh)
+            self._flux_forms = {
+                name: compat.form(self._k * ufl.dot(ufl.grad(self.T), n) * self._ds(v))
+                for name, v in self.structure.tags.items() if name != "volume"}
+        return compat.assemble_scalar(self._flux_forms[tag], self.comm)
+
+    def stored_heat(self) -> float:
+        """int rho c T dx (J) relative to T = 0."""
+        self._setup()
+        if not hasattr(self, "_energy_form"):
+            m = self.material
+            self._energy_form = compat.form(
+                compat.constant(self.mesh, m.rho * m.c) * self.T * compat.measure("dx", self.mesh))
+        return compat.assemble_scalar(self._energy_form, self.comm)
+
+    def min_max(self) -> tuple[float, float]:
+        """(min, max) of the nodal temperatures over all ranks."""
+        n = compat.dof_index_map(self.V)[0].size_local
+        Tl = self.T.x.array[:n]
+        lo = float(Tl.min()) if n else np.inf
+        hi = float(Tl.max()) if n else -np.inf
+        return self.comm.allreduce(lo, op=MPI.MIN), self.comm.allreduce(hi, op=MPI.MAX)

@@ -1,0 +1,48 @@
+"""gmsh-API builders of the structures gsi ships, picked by name (e.g. from TOML).
+
+>>> import meshes
+>>> sm = meshes.build("membrane", shape="circle", radius=0.5, thickness=0.01, h=0.05)
+>>> sm.tags        # {'contact': 1, 'support': 2, 'outer': 3, 'volume': 100}
+
+Every builder returns a :class:`StructureMesh` (dolfinx mesh, cell and facet tags, and the
+name -> number map of its physical groups). Every builder tags at least "contact" (the
+surface the bulk solid touches), "support" (where it is held) and "outer"; "box" (the
+validation bar) tags its six faces instead.
+"""
+from __future__ import annotations
+
+import inspect
+
+from gsi.errors import GsiInputError
+
+from . import box, drum, hopper, membrane, silo
+from ._common import StructureMesh
+
+BUILDERS = {
+    "membrane": membrane.build,
+    "hopper": hopper.build,
+    "silo": silo.build,
+    "drum": drum.build,
+    "box": box.build,
+}
+
+__all__ = ["BUILDERS", "StructureMesh", "build"]
+
+
+def build(name: str, **params) -> StructureMesh:
+    """Build the structure ``name`` with keyword parameters (units: m).
+
+    Raises
+    ------
+    GsiInputError
+        Unknown builder name, unknown parameter, or a bad parameter value.
+    """
+    if name not in BUILDERS:
+        raise GsiInputError(f"structure.mesh = {name!r}: must be one of {sorted(BUILDERS)}")
+    f = BUILDERS[name]
+    allowed = [p for p in inspect.signature(f).parameters]
+    for key in params:
+        if key not in allowed:
+            raise GsiInputError(f"structure.{name}.{key} = {params[key]!r}: unknown parameter; "
+                                f"allowed: {', '.join(allowed)}")
+    return f(**params)
