@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 import pathlib
+import sys
 import warnings
 from typing import Iterable, Sequence
 
@@ -37,7 +38,16 @@ def particles_polydata(pv, x: np.ndarray, radius: np.ndarray, scalars: dict[str,
                        orient=False)
 
 
-def snapshot(path: str | pathlib.Path, *, x: np.ndarray, radius: np.ndarray,
+def snapshot(path: str | pathlib.Path, **job) -> pathlib.Path | None:
+    """Render particles over triangle surfaces to a PNG (see :func:`_snapshot_here`).
+
+    Safe in any process: when dolfinx is loaded it renders in a spawned interpreter
+    (:func:`render_snapshots`).
+    """
+    return render_snapshots([dict(job, path=path)])[0]
+
+
+def _snapshot_here(path: str | pathlib.Path, *, x: np.ndarray, radius: np.ndarray,
              color_by: str = "speed", values: np.ndarray | None = None, clim=None,
              surfaces: Sequence[dict] = (), camera: dict | None = None,
              box: tuple | None = None,
@@ -89,6 +99,37 @@ def snapshot(path: str | pathlib.Path, *, x: np.ndarray, radius: np.ndarray,
     plotter.screenshot(str(path))
     plotter.close()
     return path
+
+
+def _render_jobs(jobs: list[dict]) -> list[str | None]:
+    """Render snapshot jobs in this process (the worker of :func:`render_snapshots`)."""
+    out = [_snapshot_here(**job) for job in jobs]
+    return [str(p) if p is not None else None for p in out]
+
+
+def render_snapshots(jobs: Sequence[dict]) -> list[pathlib.Path | None]:
+    """Render many :func:`snapshot` jobs (keyword dicts); returns their PNG paths.
+
+    VTK's scalar bars abort the process (``std::bad_alloc`` in ``std::regex``) once
+    dolfinx's C++ extension has been loaded before VTK, as in every coupled run. When
+    dolfinx is loaded, the jobs are therefore rendered in a spawned interpreter that never
+    imports it; if that process fails, the pictures are skipped with a warning and the
+    run's data files are unaffected.
+    """
+    jobs = list(jobs)
+    if not jobs:
+        return []
+    if "dolfinx" not in sys.modules:
+        return [pathlib.Path(p) if p else None for p in _render_jobs(jobs)]
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+    try:   # a worker that dies raises BrokenProcessPool here instead of hanging
+        with ProcessPoolExecutor(1, mp_context=mp.get_context("spawn")) as pool:
+            paths = pool.submit(_render_jobs, jobs).result()
+    except Exception as exc:
+        warnings.warn(f"snapshots skipped: the rendering process failed ({exc})", stacklevel=2)
+        return [None] * len(jobs)
+    return [pathlib.Path(p) if p else None for p in paths]
 
 
 def plot_series(path: str | pathlib.Path, t: np.ndarray, series: dict[str, tuple[np.ndarray, str]],

@@ -16,14 +16,14 @@ import dataclasses
 import pathlib
 import tomllib
 from dataclasses import dataclass
-from typing import Optional
+from typing import Any, Optional
 
 from gsi.config.schema import between, load, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
 Vec3 = tuple[float, ...]
 
-CASE_KINDS = ("pour",)
+CASE_KINDS = ("pour", "hopper_membrane", "thermal_silo")
 CONTACT_LAWS = ("hertz", "linear")
 HEAT_MODELS = ("none", "area", "radius", "constant")
 
@@ -207,6 +207,136 @@ class WallSection:
             raise GsiInputError(f"{path}.normal = {list(self.normal)}: must be a nonzero vector")
 
 
+STRUCTURE_SCHEMES = ("static", "newmark", "generalized_alpha")
+
+
+@dataclass(kw_only=True)
+class StructureSection:
+    """The FE structure: a shipped gmsh builder, its material, element, integrator, supports."""
+
+    mesh: str = param(doc="builder of meshes.build: membrane, hopper, silo, drum, box")
+    geometry: dict[str, Any] = param(default_factory=dict,
+                                     doc="[structure.geometry] keyword parameters of the builder (m)")
+    material: str = param("steel", doc="library material (steel, aluminium, rubber, ...) or base of overrides")
+    E: Optional[float] = param(None, unit="Pa", check=positive(), doc="Young's modulus override")
+    nu: Optional[float] = param(None, unit="-", check=between(-1.0, 0.5, open_lo=True, open_hi=True),
+                                doc="Poisson's ratio override")
+    rho: Optional[float] = param(None, unit="kg/m^3", check=positive(), doc="density override")
+    alpha: Optional[float] = param(None, unit="1/K", check=nonnegative(), doc="thermal expansion override")
+    k: Optional[float] = param(None, unit="W/(m K)", check=positive(), doc="conductivity override")
+    c: Optional[float] = param(None, unit="J/(kg K)", check=positive(), doc="heat capacity override")
+    degree: int = param(2, check=one_of(1, 2), doc="Lagrange degree (P2: no bending locking)")
+    scheme: str = param("generalized_alpha", check=one_of(*STRUCTURE_SCHEMES),
+                        doc="static (quasi-static coupling), newmark or generalized_alpha")
+    rho_inf: float = param(0.8, unit="-", check=between(0.0, 1.0),
+                           doc="generalized-alpha spectral radius at infinite frequency")
+    rayleigh: Vec3 = param((0.0, 0.0), unit="1/s, s", length=2, check=nonnegative(),
+                           doc="Rayleigh damping C = a0 M + a1 K: [a0, a1]")
+    damping_ratio: Optional[float] = param(None, unit="-", check=between(0.0, 1.0),
+                                           doc="sets a0 = 2 zeta omega_1 (mass-proportional) instead of rayleigh[0]")
+    self_weight: bool = param(False, doc="load the structure with its own weight (dem.gravity)")
+    supports: list[str] = param(default_factory=lambda: ["support"],
+                                doc="surface tags clamped (u = 0)")
+
+    def validate(self, path: str) -> None:
+        import meshes
+        if self.mesh not in meshes.BUILDERS:
+            raise GsiInputError(f"{path}.mesh = '{self.mesh}': must be one of "
+                                f"{', '.join(sorted(meshes.BUILDERS))}")
+        if not self.supports:
+            raise GsiInputError(f"{path}.supports = []: give at least one clamped surface tag")
+        import inspect
+        allowed = [k for k in inspect.signature(meshes.BUILDERS[self.mesh]).parameters
+                   if k not in ("comm", "root")]
+        for key, value in self.geometry.items():
+            if key not in allowed:
+                raise GsiInputError(f"{path}.geometry.{key} = {value!r}: not a parameter of the "
+                                    f"'{self.mesh}' builder; allowed: {', '.join(allowed)}")
+        if self.damping_ratio is not None and self.rayleigh[0] > 0:
+            raise GsiInputError(f"{path}.damping_ratio = {self.damping_ratio}: give either "
+                                f"damping_ratio or rayleigh[0] (a0), not both")
+
+    def mesh_params(self) -> dict:
+        """Keyword parameters of ``meshes.build(self.mesh, ...)``."""
+        return dict(self.geometry)
+
+    def material_spec(self):
+        """Material for :func:`gsi.fem.materials.get_material`: a name or a dict of overrides."""
+        over = {k: getattr(self, k) for k in ("E", "nu", "rho", "alpha", "k", "c")
+                if getattr(self, k) is not None}
+        return dict(base=self.material, **over) if over else self.material
+
+    def apply_supports(self, elasticity) -> None:
+        """Clamp every tag of ``supports`` on an Elasticity problem."""
+        for tag in self.supports:
+            elasticity.clamp(tag)
+
+
+@dataclass(kw_only=True)
+class CouplingSection:
+    """DEM <-> FE coupling through the structure's contact surface."""
+
+    wall_material: str = param(doc="[materials.X] table of the wall in DEM contacts")
+    tag: str = param("contact", doc="surface tag of the structure that the particles touch")
+    n_sub: Optional[int] = param(None, check=positive(),
+                                 doc="DEM steps per FE step (default: from steps_per_period)")
+    steps_per_period: float = param(20.0, unit="-", check=positive(),
+                                    doc="FE steps per lowest structural period (sets n_sub)")
+    relaxation: float = param(0.05, unit="-", check=between(0.0, 1.0, open_lo=True),
+                              doc="under-relaxation of the quasi-static (static scheme) update; "
+                                  "needs about k_structure/k_contact (0.01-0.1)")
+
+
+@dataclass(kw_only=True)
+class HopperSection:
+    """Conical hopper (rigid DEM wall) with a slide gate under its outlet (hopper_membrane)."""
+
+    top_radius: float = param(unit="m", check=positive(), doc="inner radius at the top rim")
+    outlet_radius: float = param(unit="m", check=positive(), doc="inner radius of the outlet")
+    height: float = param(unit="m", check=positive(), doc="vertical height of the cone")
+    outlet_z: float = param(unit="m", doc="height of the outlet")
+    centre: Vec3 = param((0.0, 0.0, 0.0), unit="m", length=3, doc="axis point (x, y used)")
+    facets: int = param(48, check=positive(), doc="triangles around the cone")
+    material: str = param(doc="[materials.X] table of the hopper and gate")
+    open_time: float = param(unit="s", check=nonnegative(), doc="the gate starts to open")
+    gate_speed: float = param(2.0, unit="m/s", check=positive(), doc="sideways speed of the opening gate")
+    quick_open_time: Optional[float] = param(None, unit="s", check=nonnegative(),
+                                             doc="open_time with --quick (default open_time)")
+    quick_fraction: float = param(0.25, unit="-", check=between(0.0, 1.0, open_lo=True),
+                                  doc="with --quick, each particle source's count times this")
+
+    def validate(self, path: str) -> None:
+        if self.outlet_radius >= self.top_radius:
+            raise GsiInputError(f"{path}.outlet_radius = {self.outlet_radius}: must be < "
+                                f"top_radius = {self.top_radius} (m)")
+        if self.facets < 8:
+            raise GsiInputError(f"{path}.facets = {self.facets}: must be >= 8")
+
+
+@dataclass(kw_only=True)
+class ThermalSection:
+    """Heat in the structure and its exchange with hot particles (thermal_silo).
+
+    The particle-wall conductance is the [dem] heat model with the wall material's k
+    (which must equal the structure's k). ``time_scale`` s divides the heat capacities of
+    the particles and of the structure (documented time scaling: every thermal time
+    constant shrinks by s; temperatures at simulated time t are those at s t)."""
+
+    T_ref: float = param(293.15, unit="K", check=positive(),
+                         doc="stress-free temperature and zero of the stored energies")
+    T_wall_initial: Optional[float] = param(None, unit="K", check=positive(),
+                                            doc="initial structure temperature (default T_ref)")
+    T_ambient: float = param(293.15, unit="K", check=positive(), doc="ambient air temperature")
+    h: float = param(10.0, unit="W/(m^2 K)", check=nonnegative(),
+                     doc="convection coefficient on the cooled surfaces")
+    cooled: list[str] = param(default_factory=lambda: ["outer"],
+                              doc="structure surface tags cooled by convection")
+    theta: float = param(1.0, unit="-", check=between(0.5, 1.0),
+                         doc="heat time scheme: 1 backward Euler, 0.5 Crank-Nicolson")
+    time_scale: float = param(1.0, unit="-", check=positive(),
+                              doc="heat-capacity scaling s (particle cp and structure c / s)")
+
+
 @dataclass(kw_only=True)
 class Case:
     run: RunSection = param(doc="the [run] table")
@@ -215,6 +345,10 @@ class Case:
     case: CaseSection = param(default_factory=CaseSection, doc="the [case] table")
     particles: list[ParticleSource] = param(default_factory=list, doc="[[particles]] tables")
     walls: list[WallSection] = param(default_factory=list, doc="[[walls]] tables")
+    structure: Optional[StructureSection] = param(None, doc="the [structure] table (coupled cases)")
+    coupling: Optional[CouplingSection] = param(None, doc="the [coupling] table (coupled cases)")
+    hopper: Optional[HopperSection] = param(None, doc="the [hopper] table (hopper_membrane)")
+    thermal: Optional[ThermalSection] = param(None, doc="the [thermal] table (thermal_silo)")
     #: directory of the case file: relative paths (mesh files) resolve against it
     base_dir: pathlib.Path = dataclasses.field(default=pathlib.Path("."), init=False,
                                                repr=False, compare=False)
@@ -228,6 +362,12 @@ class Case:
                 if item.material not in self.materials:
                     raise GsiInputError(f"{section}[{i}].material = '{item.material}': not a "
                                         f"[materials.X] table; defined: {', '.join(names)}")
+        for key, section, attr in (("coupling.wall_material", self.coupling, "wall_material"),
+                                   ("hopper.material", self.hopper, "material")):
+            value = getattr(section, attr) if section is not None else None
+            if value is not None and value not in self.materials:
+                raise GsiInputError(f"{key} = '{value}': not a [materials.X] table; "
+                                    f"defined: {', '.join(names)}")
 
     def check_files(self) -> None:
         for i, w in enumerate(self.walls):

@@ -109,6 +109,10 @@ def _convert(tp: Any, value: Any, path: str, meta: dict) -> Any:
     if origin is tuple:
         args = typing.get_args(tp)
         item = args[0]
+        if item is str:
+            if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
+                raise _fail(path, value, "must be a list of strings")
+            return tuple(value)
         if not isinstance(value, (list, tuple)) or not all(
                 isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
             raise _fail(path, value, "must be a list of numbers", unit)

@@ -81,6 +81,12 @@ def _spec(case) -> dict:
                             "conduction model ('area', 'radius' or 'constant')")
     if th is None:
         raise GsiInputError("thermal: missing; a thermal_silo case needs a [thermal] table")
+    if st is None or co is None:
+        raise GsiInputError(f"{'structure' if st is None else 'coupling'}: missing; a "
+                            "thermal_silo case needs [structure] and [coupling] tables")
+    if co.n_sub is None:
+        raise GsiInputError("coupling.n_sub: missing; a thermal_silo case needs the DEM steps "
+                            "per FE step (the heat step is n_sub x run.dt)")
     from gsi.fem.materials import get_material
     mat = get_material(st.material_spec())
     wall = case.materials.get(co.wall_material)
@@ -132,23 +138,23 @@ def _stress_split(el, heat, T_ref):
     return vm_thermal, vm_mech
 
 
-def _snapshot(path, sim, wall, T_wall, *, clim, title):
-    """Cut-away picture: the back half (y > 0) of the wall coloured by temperature, and
-    the particles coloured by temperature, seen from -y."""
-    from gsi import viz
+def _snapshot_job(path, sim, wall, T_wall, *, clim, title):
+    """Arguments of one cut-away picture, seen from -y: the back half (y > 0) of the wall
+    and of the particles, both coloured by temperature (the cut shows the bed's inside)."""
     x = wall.vertices
     tri = wall.triangles
     back = x[tri].mean(axis=1)[:, 1] > 0.0
     lo, hi = x.min(axis=0), x.max(axis=0)
     c = 0.5 * (lo + hi)
     size = float((hi - lo).max())
-    cam = dict(position=(c[0] + 0.35 * size, c[1] - 2.2 * size, c[2] + 1.1 * size),
+    cam = dict(position=(c[0] + 0.3 * size, c[1] - 2.0 * size, c[2] + 1.4 * size),
                focal_point=tuple(c), up=(0.0, 0.0, 1.0))
-    return viz.snapshot(path, x=sim.x, radius=sim.radius, color_by="particle T (K)",
-                        values=sim.T, clim=clim,
-                        surfaces=[dict(points=x, triangles=tri[back], values=T_wall,
-                                       name="wall T (K)", cmap="coolwarm")],
-                        camera=cam, title=title)
+    keep = sim.x[:, 1] > 0.0
+    return dict(path=str(path), x=sim.x[keep], radius=sim.radius[keep],
+                color_by="particle T (K)", values=sim.T[keep], clim=clim,
+                surfaces=[dict(points=x, triangles=tri[back], values=np.asarray(T_wall),
+                               name="wall T (K)", cmap="coolwarm", clim=clim)],
+                camera=cam, title=title)
 
 
 # ----------------------------------------------------------------------------- run
@@ -181,9 +187,6 @@ def run(case, *, out: pathlib.Path, quick: bool = False, verbose: bool = True) -
     mat_scaled = dataclasses.replace(mat, c=mat.c / s)
     dt_dem = check_dt(case)
     n_sub = co.n_sub
-    if n_sub is None:
-        raise GsiInputError("coupling.n_sub: missing; a thermal_silo case needs the DEM steps "
-                            "per FE step (the heat step is n_sub x run.dt)")
     for tag in th.cooled:
         if tag not in sm.tags or tag == "volume":
             raise GsiInputError(f"thermal.cooled = {list(th.cooled)}: '{tag}' is not a surface "
@@ -238,11 +241,9 @@ def run(case, *, out: pathlib.Path, quick: bool = False, verbose: bool = True) -
         if is_root:
             writer.write(sim)
             if k % png_every == 0 or k == n_steps:
-                p = _snapshot(out / f"silo_{len(frames):03d}.png", sim, tc.wall, T_wall,
-                              clim=clim, title=f"{case.case.name}  t = {tc.t:.3f} s "
-                                               f"(thermal {s * tc.t:.0f} s)")
-                if p is not None:
-                    frames.append(p)
+                frames.append(_snapshot_job(
+                    out / f"silo_{len(frames):03d}.png", sim, tc.wall, T_wall, clim=clim,
+                    title=f"{case.case.name}  t = {tc.t:.3f} s (thermal {s * tc.t:.0f} s)"))
         if rec is not None:
             say(f"  t = {tc.t:7.4f} s ({s * tc.t:7.1f} s)  contacts {rec.n_contacts:5d}  "
                 f"heat into wall {rec.heat_flow:9.4g} W  T_wall max {rec.T_wall_max:8.2f} K  "
@@ -287,8 +288,12 @@ def run(case, *, out: pathlib.Path, quick: bool = False, verbose: bool = True) -
             "total": (sr[:, 2] / 1e6, "MPa"), "thermal only": (sr[:, 3] / 1e6, "MPa"),
             "particle loads only": (sr[:, 4] / 1e6, "MPa")},
             xlabel="thermal time (s)", title="max von Mises stress"))
-        files += frames
-        gif = viz.animation(out / "silo.gif", frames, fps=3)
+        wall_clim = (T_wall0, max(float(h["T_wall_max"].max()), T_wall0 + 1.0))
+        for job in frames:                          # the wall's own scale: its rise shows
+            job["surfaces"][0]["clim"] = wall_clim
+        pngs = [p for p in viz.render_snapshots(frames) if p is not None]
+        files += pngs
+        gif = viz.animation(out / "silo.gif", pngs, fps=3)
         if gif is not None:
             files.append(gif)
         g = np.asarray(case.dem.gravity, float)

@@ -1,0 +1,30 @@
+"""DEM <-> FE coupling: the contact surface as a DEM wall, load transfer, staggered drivers.
+
+* :class:`~gsi.coupling.interface.SurfaceInterface` -- the tagged FE surface as DEM wall
+  triangles (P1, or P2 split at its edge midpoints), gathered positions/velocities and
+  scattered nodal loads.
+* :class:`~gsi.coupling.staggered.StaggeredCoupling` -- forces and motion, one FE step per
+  n_sub DEM steps, with the per-step load balance and work record;
+  :func:`~gsi.coupling.staggered.lowest_period`, :func:`~gsi.coupling.staggered.choose_n_sub`.
+* :class:`~gsi.coupling.thermal.ThermalCoupling` -- heat (and thermo-elastic) coupling.
+
+Names are imported lazily so that importing the package does not load dolfinx.
+"""
+from importlib import import_module
+
+_EXPORTS = {
+    "SurfaceInterface": "interface",
+    "StaggeredCoupling": "staggered",
+    "CouplingRecord": "staggered",
+    "lowest_period": "staggered",
+    "choose_n_sub": "staggered",
+    "ThermalCoupling": "thermal",
+}
+
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name):
+    if name in _EXPORTS:
+        return getattr(import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,0 +1,188 @@
+r"""The FE contact surface as a DEM mesh wall, and the wall's forces as FE nodal loads.
+
+DESIGN.md "Coupling". The tagged contact surface of the structure
+(:class:`gsi.fem.surface.ContactSurface`: boundary triangles whose vertices are FE mesh
+vertices, gathered on every rank in a rank-independent order) becomes one
+:class:`gsi.dem.MeshWall`. Contact is two-sided closest-point, so the triangles'
+orientation (outward, as ContactSurface gives them) only documents which side is which.
+
+Interface nodes and load transfer
+---------------------------------
+A particle-triangle contact at point p with barycentric weights (w_a, w_b, w_c) puts
+-F w_k dt on wall vertex k (the DEM accumulates this in ``vertex_impulse``). Held over the
+FE step dt_FE, the nodal force is P_k = vertex_impulse_k / dt_FE (N).
+
+* **P1** (``degree = 1``): the wall is the surface triangles themselves; w_k are the P1
+  basis functions at p, so P_k is exactly the consistent nodal load of the point force.
+* **P2** (``degree = 2``): the DEM's vertex accumulators cannot give the P2 basis at p
+  (that needs the second moments w_k w_l of every contact). The wall is instead each
+  surface triangle split into four at its edge midpoints -- the P2 nodes of the face --
+  so every P2 surface node is a wall vertex and its load is w_k of the *refined* triangle
+  (the piecewise-linear "P1-iso-P2" hat functions). This is not the P2-consistent load of
+  a point force, but it has the same resultant and the same moment about any point
+  (both weight sets are a partition of unity reproducing linear fields), so the total
+  force and the balance are exact; only the split among neighbouring nodes differs. The
+  wall also follows the P2 displacement at the midpoints (the deformed surface seen by the
+  DEM is the piecewise-linear interpolant through all P2 nodes). The mid-edge nodes are
+  found by coordinates: this needs straight-sided (geometry order 1) meshes.
+
+Node order (the wall's vertex order): the ContactSurface vertices (sorted global vertex
+id), then the edge midpoints sorted by their (sorted) pair of global vertex ids; it does
+not depend on the number of MPI ranks.
+
+MPI: positions and velocities are gathered onto every rank (each node is owned by one
+rank: an exact sum); loads given on rank ``root`` are broadcast, and each rank adds the
+rows of the nodes it owns, so each load is applied once.
+"""
+from __future__ import annotations
+
+import numpy as np
+from mpi4py import MPI
+
+from gsi.errors import GsiInputError
+
+__all__ = ["SurfaceInterface"]
+
+
+class SurfaceInterface:
+    """Interface nodes and wall triangles of the contact surface of an elasticity problem.
+
+    Parameters
+    ----------
+    elasticity : gsi.fem.elasticity.Elasticity
+        The structure (P1 or P2 vector Lagrange on a straight-sided tetrahedral mesh).
+    tag : str
+        Name of the contact surface (default "contact").
+
+    Attributes
+    ----------
+    x0 : ndarray (n_nodes, 3)
+        Reference coordinates of the interface nodes (m).
+    triangles : ndarray (n_tri, 3) int64
+        Wall triangles as node indices (outward oriented).
+    surface : gsi.fem.surface.ContactSurface
+        The gathered surface (vertices are the first ``surface.n_vertices`` nodes).
+    n_vertices, n_midpoints : int
+        Surface vertices and P2 edge-midpoint nodes (0 for P1).
+    """
+
+    def __init__(self, elasticity, *, tag: str = "contact"):
+        from gsi.fem.surface import ContactSurface
+        if elasticity.degree not in (1, 2):
+            raise GsiInputError(f"structure.degree = {elasticity.degree!r}: the coupling "
+                                "supports 1 or 2")
+        self.elasticity = elasticity
+        self.comm = elasticity.comm
+        self.surface = s = ContactSurface(elasticity=elasticity, tag=tag)
+        self.n_vertices = s.n_vertices
+        if elasticity.degree == 1:
+            self.x0 = s.x0.copy()
+            self.triangles = s.triangles.copy()
+            self.n_midpoints = 0
+            self._mid = None
+        else:
+            self._setup_midpoints()
+
+    # ------------------------------------------------------------------ P2 nodes
+    def _setup_midpoints(self) -> None:
+        from scipy.spatial import cKDTree
+        from gsi.fem import compat
+        s, el = self.surface, self.elasticity
+        tri = s.triangles
+        e = np.stack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]], axis=1).reshape(-1, 2)
+        e_sorted = np.sort(e, axis=1)
+        # vertices are numbered in global-id order, so this sorts edges by global-id pairs
+        edges, inverse = np.unique(e_sorted, axis=0, return_inverse=True)
+        nv, ne = s.n_vertices, len(edges)
+        mid_of = (nv + inverse).reshape(-1, 3)          # node of edges ab, bc, ca per triangle
+        a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+        ab, bc, ca = mid_of[:, 0], mid_of[:, 1], mid_of[:, 2]
+        self.triangles = np.concatenate([
+            np.c_[a, ab, ca], np.c_[ab, b, bc], np.c_[ca, bc, c], np.c_[ab, bc, ca]]
+        ).astype(np.int64)
+        x_mid = 0.5 * (s.x0[edges[:, 0]] + s.x0[edges[:, 1]])
+        self.x0 = np.vstack([s.x0, x_mid])
+        self.n_midpoints = ne
+        # owned P2 dofs at the midpoints (by coordinates)
+        imap, bs = compat.dof_index_map(el.V)
+        X = el.V.tabulate_dof_coordinates()[: imap.size_local]
+        size = float(np.ptp(self.x0, axis=0).max()) or 1.0
+        tol = 1e-9 * size
+        rows = np.zeros(0, np.int64)
+        dofs = np.zeros(0, np.int64)
+        if len(X):
+            d, k = cKDTree(X).query(x_mid, distance_upper_bound=tol)
+            hit = np.isfinite(d)
+            rows, dofs = np.flatnonzero(hit), k[hit].astype(np.int64)
+        found = self.comm.allreduce(int(rows.size), op=MPI.SUM)
+        if found != ne:
+            raise GsiInputError(
+                f"structure.degree = 2: found {found} of {ne} P2 edge-midpoint dofs of the "
+                "contact surface; the coupling needs a straight-sided mesh (structure mesh "
+                "order = 1)")
+        self._mid = (rows, dofs, bs)
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.x0.shape[0])
+
+    # ------------------------------------------------------------------ gather
+    def _gather_mid(self, f) -> np.ndarray:
+        rows, dofs, bs = self._mid
+        out = np.zeros((self.n_midpoints, 3))
+        vals = f.x.array
+        for c in range(3):
+            out[rows, c] = vals[dofs * bs + c]
+        self.comm.Allreduce(MPI.IN_PLACE, out, op=MPI.SUM)
+        return out
+
+    def _gather(self, f, vertex_values) -> np.ndarray:
+        if self._mid is None:
+            return vertex_values
+        return np.vstack([vertex_values, self._gather_mid(f)])
+
+    def displacement(self) -> np.ndarray:
+        """Displacement at the interface nodes (n_nodes, 3) (m), on every rank (collective)."""
+        return self._gather(self.elasticity.u, self.surface.displacement())
+
+    def velocity(self) -> np.ndarray:
+        """Velocity at the interface nodes (n_nodes, 3) (m/s), on every rank (collective)."""
+        return self._gather(self.elasticity.v, self.surface.velocity())
+
+    def positions(self) -> np.ndarray:
+        """Deformed node coordinates x0 + u (n_nodes, 3) (m) (collective)."""
+        return self.x0 + self.displacement()
+
+    # ------------------------------------------------------------------ loads
+    def add_nodal_loads(self, forces, *, root: int | None = 0) -> np.ndarray:
+        """Add forces (n_nodes, 3) (N) at the interface nodes to the elasticity problem.
+
+        ``forces`` is read on rank ``root`` and broadcast (``root=None``: every rank passes
+        the same array). Returns the broadcast array (on every rank). Collective.
+        """
+        F = None
+        if root is None or self.comm.rank == root:
+            F = np.asarray(forces, dtype=float)
+            if F.shape != (self.n_nodes, 3) or not np.all(np.isfinite(F)):
+                raise GsiInputError(f"coupling loads shape {F.shape}: must be "
+                                    f"({self.n_nodes}, 3) finite (N)")
+        if root is not None and self.comm.size > 1:
+            F = self.comm.bcast(F, root=root)
+        self.surface.add_nodal_loads(F[: self.n_vertices], root=None)
+        if self._mid is not None:
+            rows, dofs, bs = self._mid
+            values = self.elasticity.nodal.values   # owned unrolled dofs (NodalLoads)
+            for c in range(3):
+                np.add.at(values, dofs * bs + c, F[self.n_vertices + rows, c])
+        return F
+
+    def make_wall(self, sim, *, material: str):
+        """Add the interface as a mesh wall (at the reference positions ``x0``) to ``sim``.
+
+        Call on the rank that holds the DEM only (not collective); move the wall with
+        ``wall.set_vertices(positions, velocities)``. Returns the MeshWall.
+        """
+        if material not in sim.materials:
+            raise GsiInputError(f"coupling.wall_material = {material!r}: not a DEM material; "
+                                f"known: {sorted(sim.materials)}")
+        return sim.add_mesh_wall(self.x0.copy(), self.triangles, material=material)

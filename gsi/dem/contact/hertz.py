@@ -1,0 +1,104 @@
+"""Hertz–Mindlin contact with tangential history (the LIGGGHTS ``hertz`` model).
+
+DESIGN.md "DEM physics", for overlap delta > 0:
+
+- S_n = 2 E* sqrt(R* delta), S_t = 8 G* sqrt(R* delta)
+- k_n = 4/3 E* sqrt(R* delta), gamma_n = -2 sqrt(5/6) beta sqrt(S_n m*)
+- F_n = k_n delta + gamma_n v_n  (v_n > 0 approaching), along -n on particle i
+- k_t = S_t, gamma_t = -2 sqrt(5/6) beta sqrt(S_t m*)
+- xi (tangential spring, m): old xi rotated into the current tangent plane (its
+  normal part removed, its length kept), then xi += v_t dt;
+  F_t = -k_t xi - gamma_t v_t, capped at mu |F_n|; on the cap xi = -F_t/k_t so the
+  spring alone gives the capped force.
+"""
+import math
+
+from gsi.jit import njit
+from gsi.dem.materials import P_E, P_G, P_BETA, P_MU, P_ST_SN
+
+SQRT_5_6 = math.sqrt(5.0 / 6.0)
+
+
+@njit(inline="always")
+def hertz(nx, ny, nz, delta, vx, vy, vz, R_eff, m_eff, tab, row, hist, k, dt):
+    """Force on particle i of one Hertz–Mindlin contact.
+
+    Parameters
+    ----------
+    nx, ny, nz : float
+        Unit normal from particle i towards its partner (-).
+    delta : float
+        Overlap (m), > 0.
+    vx, vy, vz : float
+        Velocity of i relative to the partner at the contact point (m/s).
+    R_eff, m_eff : float
+        Effective radius R* (m) and mass m* (kg); a wall has R, m = infinity.
+    tab, row : ndarray (ntypes^2, N_PAIR), int
+        Pair table flattened over (type_i, type_j) and the row of this pair
+        (see :mod:`gsi.dem.materials`); a row index instead of a row view keeps
+        array reference counting out of the inner loop.
+    hist : ndarray (m, 3)
+        Tangential springs; row ``k`` (m) is read and updated in place.
+    dt : float
+        Time step (s).
+
+    Returns
+    -------
+    fx, fy, fz, F_n : float
+        Force on i (N) and the normal force magnitude F_n (N, > 0 repulsive).
+    """
+    E_eff = tab[row, P_E]
+    G_eff = tab[row, P_G]
+    beta = tab[row, P_BETA]
+    mu = tab[row, P_MU]
+    sqrt_Rd = math.sqrt(R_eff * delta)
+    S_n = 2.0 * E_eff * sqrt_Rd
+    S_t = 8.0 * G_eff * sqrt_Rd
+    k_n = 4.0 / 3.0 * E_eff * sqrt_Rd
+    sqrt_Sn_m = math.sqrt(S_n * m_eff)
+    gamma_n = -2.0 * SQRT_5_6 * beta * sqrt_Sn_m
+    v_n = vx * nx + vy * ny + vz * nz
+    F_n = k_n * delta + gamma_n * v_n
+    # tangential relative velocity
+    vtx = vx - v_n * nx
+    vty = vy - v_n * ny
+    vtz = vz - v_n * nz
+    # rotate the spring into the current tangent plane, keeping its length
+    xx = hist[k, 0]
+    xy = hist[k, 1]
+    xz = hist[k, 2]
+    old2 = xx * xx + xy * xy + xz * xz
+    if old2 > 0.0:
+        xn = xx * nx + xy * ny + xz * nz
+        xx -= xn * nx
+        xy -= xn * ny
+        xz -= xn * nz
+        new2 = xx * xx + xy * xy + xz * xz
+        if new2 > 0.0:
+            s = math.sqrt(old2 / new2)
+            xx *= s
+            xy *= s
+            xz *= s
+    xx += vtx * dt
+    xy += vty * dt
+    xz += vtz * dt
+    k_t = S_t
+    gamma_t = gamma_n * tab[row, P_ST_SN]        # sqrt(S_t m*) = sqrt(S_n m*) sqrt(4 G*/E*)
+    ftx = -k_t * xx - gamma_t * vtx
+    fty = -k_t * xy - gamma_t * vty
+    ftz = -k_t * xz - gamma_t * vtz
+    ft = math.sqrt(ftx * ftx + fty * fty + ftz * ftz)
+    cap = mu * abs(F_n)
+    if ft > cap:
+        if ft > 0.0:
+            s = cap / ft
+            ftx *= s
+            fty *= s
+            ftz *= s
+        xx = -ftx / k_t
+        xy = -fty / k_t
+        xz = -ftz / k_t
+    hist[k, 0] = xx
+    hist[k, 1] = xy
+    hist[k, 2] = xz
+    return (-F_n * nx + ftx, -F_n * ny + fty, -F_n * nz + ftz, F_n)

@@ -1,0 +1,723 @@
+"""The DEM step kernels for one choice of contact law, rolling law and heat model.
+
+This file is a template: :func:`gsi.dem.engine_factory.get_engine` writes a copy with
+the block between the ``ENGINE-LAWS`` markers replaced by the chosen laws (one cached
+module per combination, because numba cannot cache closures or function arguments),
+so the hot loops call the law directly and never dispatch on a name.  Imported as
+it is, the module uses Hertz, no rolling resistance and no heat.
+
+One DEM step (velocity Verlet, DESIGN.md "DEM physics"):
+
+1. :func:`initial_integrate`: v += dt/2 F/m, x += dt v, omega += dt/2 T/I, then
+   F = m g, T = 0, Q = 0 for the new forces (:func:`clear_forces` when resuming);
+   walls move (:func:`move_walls`).
+2. :func:`scan`: largest displacement since the last neighbour build (rebuild when it
+   exceeds skin/2), particles outside the domain, NaN or runaway velocities.
+3. :func:`contact_forces` (parallel, two colours of slabs): the law of each pair once,
+   added to both particles; plane and triangle contacts of each particle.
+4. :func:`final_integrate`: v += dt/2 F/m, omega += dt/2 T/I; T += dt Q/(m c_p).
+5. serial reductions of wall forces, torques and the coupling accumulators.
+"""
+import math
+
+import numpy as np
+
+from gsi.jit import njit, pjit, prange
+from gsi.dem.geometry import closest_point_triangle, FACE, VA, VB, VC, EAB, EBC, ECA
+
+# <<ENGINE-LAWS (replaced by gsi.dem.engine_factory)
+from gsi.dem.contact.hertz import hertz as LAW
+from gsi.dem.contact.rolling import no_rolling as ROLL
+from gsi.dem.heat import none as COND
+ROLL_ON = False
+HEAT_ON = False
+# ENGINE-LAWS>>
+
+#: wall-contact slots per particle (mesh walls); more contacts raise an overflow flag
+MAX_WALL_SLOTS = 8
+#: two contact points closer than this fraction of the radius are the same contact
+SAME_POINT_TOL = 1e-9
+
+
+@pjit
+def initial_integrate(n, x, v, w, f, tq, q, ncontact, mass, inertia, fixed, half_dt, dt,
+                      gx, gy, gz):
+    """First half kick and drift: v += dt/2 F/m; x += dt v; omega += dt/2 T/I; then
+    clear for the new forces: F = m g, T = 0, Q = 0, contact count 0."""
+    for i in prange(n):
+        mi = mass[i]
+        if not fixed[i]:
+            a = half_dt / mi
+            b = half_dt / inertia[i]
+            for d in range(3):
+                v[i, d] += a * f[i, d]
+                x[i, d] += dt * v[i, d]
+                w[i, d] += b * tq[i, d]
+        f[i, 0] = mi * gx
+        f[i, 1] = mi * gy
+        f[i, 2] = mi * gz
+        for d in range(3):
+            tq[i, d] = 0.0
+        q[i] = 0.0
+        ncontact[i] = 0
+
+
+@njit
+def scan(n, x, v, x0, lo, hi, vmax2):
+    """Largest squared displacement since build (m^2), count outside domain, bad particle.
+
+    Returns ``(max_disp2, n_out, bad)``; ``bad`` is the first particle whose velocity
+    is NaN or above sqrt(vmax2), else -1.
+    """
+    dmax = 0.0
+    nout = 0
+    bad = -1
+    for i in range(n):
+        d2 = 0.0
+        s2 = 0.0
+        out = False
+        for d in range(3):
+            xi = x[i, d]
+            dd = xi - x0[i, d]
+            d2 += dd * dd
+            s2 += v[i, d] * v[i, d]
+            if not (lo[d] <= xi <= hi[d]):
+                out = True
+        if d2 > dmax:
+            dmax = d2
+        if out:
+            nout += 1
+        if bad < 0 and not (s2 <= vmax2):
+            bad = i
+    return dmax, nout, bad
+
+
+@njit
+def move_walls(dt, pl_p, pl_v, mv_x, mv_v, mv_x0, mv_wall, mw_rigid, mw_vel, mw_omega,
+               mw_centre):
+    """Advance planes (point += v dt) and mesh vertices by one step; return max vertex disp^2.
+
+    Rigid walls (``mw_rigid``) rotate exactly by omega dt about their centre and
+    translate with ``mw_vel``; their vertex velocities are v = vel + omega x (x - c).
+    Other walls move each vertex with its own velocity: x += v dt.
+    """
+    for p in range(pl_p.shape[0]):
+        for d in range(3):
+            pl_p[p, d] += dt * pl_v[p, d]
+    nw = mw_rigid.shape[0]
+    for q in range(nw):
+        if mw_rigid[q]:
+            for d in range(3):
+                mw_centre[q, d] += dt * mw_vel[q, d]
+    dmax = 0.0
+    for a in range(mv_x.shape[0]):
+        q = mv_wall[a]
+        if mw_rigid[q]:
+            ox = mw_omega[q, 0]
+            oy = mw_omega[q, 1]
+            oz = mw_omega[q, 2]
+            om = math.sqrt(ox * ox + oy * oy + oz * oz)
+            cx = mw_centre[q, 0]
+            cy = mw_centre[q, 1]
+            cz = mw_centre[q, 2]
+            # position relative to the (already moved) centre, before rotation
+            rx = mv_x[a, 0] + dt * mw_vel[q, 0] - cx
+            ry = mv_x[a, 1] + dt * mw_vel[q, 1] - cy
+            rz = mv_x[a, 2] + dt * mw_vel[q, 2] - cz
+            if om > 0.0:
+                # Rodrigues rotation by angle om dt about unit axis k
+                kx = ox / om
+                ky = oy / om
+                kz = oz / om
+                th = om * dt
+                c = math.cos(th)
+                s = math.sin(th)
+                kr = kx * rx + ky * ry + kz * rz
+                crx = ky * rz - kz * ry
+                cry = kz * rx - kx * rz
+                crz = kx * ry - ky * rx
+                rx, ry, rz = (rx * c + crx * s + kx * kr * (1 - c),
+                              ry * c + cry * s + ky * kr * (1 - c),
+                              rz * c + crz * s + kz * kr * (1 - c))
+            mv_x[a, 0] = cx + rx
+            mv_x[a, 1] = cy + ry
+            mv_x[a, 2] = cz + rz
+            mv_v[a, 0] = mw_vel[q, 0] + oy * rz - oz * ry
+            mv_v[a, 1] = mw_vel[q, 1] + oz * rx - ox * rz
+            mv_v[a, 2] = mw_vel[q, 2] + ox * ry - oy * rx
+        else:
+            for d in range(3):
+                mv_x[a, d] += dt * mv_v[a, d]
+        d2 = 0.0
+        for d in range(3):
+            dd = mv_x[a, d] - mv_x0[a, d]
+            d2 += dd * dd
+        if d2 > dmax:
+            dmax = d2
+    return dmax
+
+
+@njit(inline="always")
+def _feature(t, region, mt, mt_edge):
+    """(kind, id) of a closest-point region: kind 0 face (triangle id), 1 edge, 2 vertex."""
+    if region == FACE:
+        return 0, t
+    if region == VA:
+        return 2, mt[t, 0]
+    if region == VB:
+        return 2, mt[t, 1]
+    if region == VC:
+        return 2, mt[t, 2]
+    if region == EAB:
+        return 1, mt_edge[t, 0]
+    if region == EBC:
+        return 1, mt_edge[t, 1]
+    return 1, mt_edge[t, 2]
+
+
+@pjit
+def clear_forces(n, gx, gy, gz, mass, f, tq, q, ncontact):
+    """f = m g, torque = 0, heat rate = 0, contact count = 0 (before contacts add up)."""
+    for i in prange(n):
+        ncontact[i] = 0
+        f[i, 0] = mass[i] * gx
+        f[i, 1] = mass[i] * gy
+        f[i, 2] = mass[i] * gz
+        for d in range(3):
+            tq[i, d] = 0.0
+        q[i] = 0.0
+
+
+@pjit
+def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
+                   table, slab_start, slab_list, nb_start, nb_j, hist, pact,
+                   pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
+                   mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
+                   mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
+                   wc_f, wc_q, wc_pt, overflow):
+    """Add all contact forces, torques and heat rates to f, tq, q (cleared before).
+
+    Pairs (half list; a pair is stored at the particle of the lower slab): the law is
+    evaluated once per pair and added to both particles (Newton's third law).  The
+    slabs (at least one cutoff wide) are processed in two colours, even then odd, in
+    parallel within a colour: a particle of slab s writes only to slabs s and s + 1,
+    so no two threads write the same particle.  Pair k = (i, j), n from i to j,
+    overlap delta = R_i + R_j - L, lever arms a_i = R_i - delta/2, a_j = R_j - delta/2:
+    torque a_i n x F on i and a_j n x F on j (F the force on i).
+
+    Plane contacts: overlap delta = R - (x - p).n, contact normal -n, lever R - delta,
+    wall velocity ``pl_v``.  Triangle contacts at the closest point with duplicate
+    edge/vertex contacts of one wall removed (see :mod:`gsi.dem.walls`).
+    """
+    npl = pl_p.shape[0]
+    nt = table.shape[0]
+    tab = table.reshape((nt * nt, table.shape[2]))
+    plh = pl_hist.reshape((n * npl, 3))
+    nslab = slab_start.shape[0] - 1
+    for colour in range(2):
+        for si in prange((nslab - colour + 1) // 2):
+            s = 2 * si + colour
+            for m in range(slab_start[s], slab_start[s + 1]):
+                i = slab_list[m]
+                mi = mass[i]
+                ri = radius[i]
+                row_i = ptype[i] * nt
+                Ti = T[i]
+                xi0 = x[i, 0]
+                xi1 = x[i, 1]
+                xi2 = x[i, 2]
+                fx = 0.0
+                fy = 0.0
+                fz = 0.0
+                tx = 0.0
+                ty = 0.0
+                tz = 0.0
+                qi = 0.0
+                nc = 0
+                # ---- particle pairs
+                for k in range(nb_start[i], nb_start[i + 1]):
+                    j = nb_j[k]
+                    dx = x[j, 0] - xi0
+                    dy = x[j, 1] - xi1
+                    dz = x[j, 2] - xi2
+                    L2 = dx * dx + dy * dy + dz * dz
+                    rj = radius[j]
+                    rs = ri + rj
+                    if L2 >= rs * rs or L2 == 0.0:
+                        if pact[k]:
+                            pact[k] = 0
+                            hist[k, 0] = 0.0
+                            hist[k, 1] = 0.0
+                            hist[k, 2] = 0.0
+                        continue
+                    pact[k] = 1
+                    L = math.sqrt(L2)
+                    inv_L = 1.0 / L
+                    nx = dx * inv_L
+                    ny = dy * inv_L
+                    nz = dz * inv_L
+                    delta = rs - L
+                    a_i = ri - 0.5 * delta
+                    a_j = rj - 0.5 * delta
+                    # velocity of i relative to j at the contact point:
+                    # v_i + w_i x (a_i n) - v_j - w_j x (-a_j n)
+                    wsx = a_i * w[i, 0] + a_j * w[j, 0]
+                    wsy = a_i * w[i, 1] + a_j * w[j, 1]
+                    wsz = a_i * w[i, 2] + a_j * w[j, 2]
+                    vx = v[i, 0] - v[j, 0] + wsy * nz - wsz * ny
+                    vy = v[i, 1] - v[j, 1] + wsz * nx - wsx * nz
+                    vz = v[i, 2] - v[j, 2] + wsx * ny - wsy * nx
+                    R_eff = ri * rj / rs
+                    mj = mass[j]
+                    m_eff = mi * mj / (mi + mj)
+                    row = row_i + ptype[j]
+                    cfx, cfy, cfz, F_n = LAW(nx, ny, nz, delta, vx, vy, vz, R_eff, m_eff,
+                                             tab, row, hist, k, dt)
+                    # n x F
+                    cx = ny * cfz - nz * cfy
+                    cy = nz * cfx - nx * cfz
+                    cz = nx * cfy - ny * cfx
+                    Mx = 0.0
+                    My = 0.0
+                    Mz = 0.0
+                    if ROLL_ON:
+                        Ii = inertia[i]
+                        Ij = inertia[j]
+                        Mx, My, Mz = ROLL(w[i, 0] - w[j, 0], w[i, 1] - w[j, 1],
+                                          w[i, 2] - w[j, 2], R_eff, F_n, tab, row,
+                                          Ii * Ij / (Ii + Ij), dt)
+                    fx += cfx
+                    fy += cfy
+                    fz += cfz
+                    tx += a_i * cx + Mx
+                    ty += a_i * cy + My
+                    tz += a_i * cz + Mz
+                    f[j, 0] -= cfx
+                    f[j, 1] -= cfy
+                    f[j, 2] -= cfz
+                    tq[j, 0] += a_j * cx - Mx
+                    tq[j, 1] += a_j * cy - My
+                    tq[j, 2] += a_j * cz - Mz
+                    ncontact[j] += 1
+                    nc += 1
+                    if HEAT_ON:
+                        # contact radius of two spheres at centre distance L
+                        sc = (ri * ri - rj * rj + L2) * 0.5 * inv_L
+                        Qp = COND(ri * ri - sc * sc, tab, row) * (T[j] - Ti)
+                        qi += Qp
+                        q[j] -= Qp
+                # ---- planes
+                pmask = 0
+                for p in range(npl):
+                    Nx = pl_n[p, 0]
+                    Ny = pl_n[p, 1]
+                    Nz = pl_n[p, 2]
+                    dist = (xi0 - pl_p[p, 0]) * Nx + (xi1 - pl_p[p, 1]) * Ny + (xi2 - pl_p[p, 2]) * Nz
+                    delta = ri - dist
+                    if delta <= 0.0:
+                        if pl_f[i, p, 0] != 0.0 or pl_f[i, p, 1] != 0.0 or pl_f[i, p, 2] != 0.0:
+                            plh[i * npl + p, 0] = 0.0
+                            plh[i * npl + p, 1] = 0.0
+                            plh[i * npl + p, 2] = 0.0
+                            pl_f[i, p, 0] = 0.0
+                            pl_f[i, p, 1] = 0.0
+                            pl_f[i, p, 2] = 0.0
+                            pl_q[i, p] = 0.0
+                        continue
+                    nc += 1
+                    pmask |= 1 << p
+                    nx = -Nx
+                    ny = -Ny
+                    nz = -Nz
+                    a_i = dist
+                    vx = v[i, 0] - pl_v[p, 0] + a_i * (w[i, 1] * nz - w[i, 2] * ny)
+                    vy = v[i, 1] - pl_v[p, 1] + a_i * (w[i, 2] * nx - w[i, 0] * nz)
+                    vz = v[i, 2] - pl_v[p, 2] + a_i * (w[i, 0] * ny - w[i, 1] * nx)
+                    row = row_i + pl_type[p]
+                    cfx, cfy, cfz, F_n = LAW(nx, ny, nz, delta, vx, vy, vz, ri, mi, tab, row,
+                                             plh, i * npl + p, dt)
+                    pl_f[i, p, 0] = cfx
+                    pl_f[i, p, 1] = cfy
+                    pl_f[i, p, 2] = cfz
+                    fx += cfx
+                    fy += cfy
+                    fz += cfz
+                    tx += a_i * (ny * cfz - nz * cfy)
+                    ty += a_i * (nz * cfx - nx * cfz)
+                    tz += a_i * (nx * cfy - ny * cfx)
+                    if ROLL_ON:
+                        Mx, My, Mz = ROLL(w[i, 0], w[i, 1], w[i, 2], ri, F_n, tab, row, inertia[i], dt)
+                        tx += Mx
+                        ty += My
+                        tz += Mz
+                    if HEAT_ON:
+                        Qw = 0.0
+                        if pl_hasT[p]:
+                            a2 = 2.0 * ri * delta - delta * delta
+                            Qw = COND(a2, tab, row) * (pl_T[p] - Ti)
+                        pl_q[i, p] = Qw
+                        qi += Qw
+                pl_mask[i] = pmask
+                # ---- triangle meshes
+                ns = 0
+                c0 = mc_start[i]
+                c1 = mc_start[i + 1]
+                if c1 > c0:
+                    r2 = ri * ri
+                    tol2 = (SAME_POINT_TOL * ri) ** 2
+                    for sweep in range(2):      # faces first, then edges and vertices
+                        for k in range(c0, c1):
+                            t = mc_tri[k]
+                            a = mt[t, 0]
+                            b = mt[t, 1]
+                            c = mt[t, 2]
+                            qx, qy, qz, wa, wb, wcc, region = closest_point_triangle(
+                                xi0, xi1, xi2, mv_x[a, 0], mv_x[a, 1], mv_x[a, 2],
+                                mv_x[b, 0], mv_x[b, 1], mv_x[b, 2], mv_x[c, 0], mv_x[c, 1], mv_x[c, 2])
+                            if (region == FACE) != (sweep == 0):
+                                continue
+                            ddx = qx - xi0
+                            ddy = qy - xi1
+                            ddz = qz - xi2
+                            d2 = ddx * ddx + ddy * ddy + ddz * ddz
+                            if d2 >= r2:
+                                continue
+                            kind, fid = _feature(t, region, mt, mt_edge)
+                            wall = mt_wall[t]
+                            keep = True
+                            for s in range(ns):
+                                ts = wc_tri[i, s]
+                                if mt_wall[ts] != wall:
+                                    continue
+                                ex = wc_pt[i, s, 0] - qx
+                                ey = wc_pt[i, s, 1] - qy
+                                ez = wc_pt[i, s, 2] - qz
+                                if ex * ex + ey * ey + ez * ez <= tol2:
+                                    keep = False
+                                elif kind != 0 and wc_kind[i, s] == kind and wc_fid[i, s] == fid:
+                                    keep = False
+                                elif kind == 1 and wc_kind[i, s] == 0:
+                                    if (mt_edge[ts, 0] == fid or mt_edge[ts, 1] == fid
+                                            or mt_edge[ts, 2] == fid):
+                                        keep = False
+                                elif kind == 2 and wc_kind[i, s] == 0:
+                                    if mt[ts, 0] == fid or mt[ts, 1] == fid or mt[ts, 2] == fid:
+                                        keep = False
+                                if not keep:
+                                    break
+                            if not keep:
+                                continue
+                            if ns == MAX_WALL_SLOTS:
+                                overflow[0] += 1   # benign race: only a flag
+                                continue
+                            wc_tri[i, ns] = t
+                            wc_kind[i, ns] = kind
+                            wc_fid[i, ns] = fid
+                            wc_k[i, ns] = k
+                            wc_w[i, ns, 0] = wa
+                            wc_w[i, ns, 1] = wb
+                            wc_w[i, ns, 2] = wcc
+                            wc_pt[i, ns, 0] = qx
+                            wc_pt[i, ns, 1] = qy
+                            wc_pt[i, ns, 2] = qz
+                            ns += 1
+                    # springs of candidates without an accepted contact restart from zero
+                    for k in range(c0, c1):
+                        used = False
+                        for s in range(ns):
+                            if wc_k[i, s] == k:
+                                used = True
+                        if not used:
+                            mc_hist[k, 0] = 0.0
+                            mc_hist[k, 1] = 0.0
+                            mc_hist[k, 2] = 0.0
+                    for s in range(ns):
+                        t = wc_tri[i, s]
+                        ddx = wc_pt[i, s, 0] - xi0
+                        ddy = wc_pt[i, s, 1] - xi1
+                        ddz = wc_pt[i, s, 2] - xi2
+                        dist = math.sqrt(ddx * ddx + ddy * ddy + ddz * ddz)
+                        delta = ri - dist
+                        nx = ddx / dist
+                        ny = ddy / dist
+                        nz = ddz / dist
+                        a = mt[t, 0]
+                        b = mt[t, 1]
+                        c = mt[t, 2]
+                        wa = wc_w[i, s, 0]
+                        wb = wc_w[i, s, 1]
+                        wcc = wc_w[i, s, 2]
+                        wvx = wa * mv_v[a, 0] + wb * mv_v[b, 0] + wcc * mv_v[c, 0]
+                        wvy = wa * mv_v[a, 1] + wb * mv_v[b, 1] + wcc * mv_v[c, 1]
+                        wvz = wa * mv_v[a, 2] + wb * mv_v[b, 2] + wcc * mv_v[c, 2]
+                        vx = v[i, 0] - wvx + dist * (w[i, 1] * nz - w[i, 2] * ny)
+                        vy = v[i, 1] - wvy + dist * (w[i, 2] * nx - w[i, 0] * nz)
+                        vz = v[i, 2] - wvz + dist * (w[i, 0] * ny - w[i, 1] * nx)
+                        wl = mt_wall[t]
+                        row = row_i + mw_type[wl]
+                        cfx, cfy, cfz, F_n = LAW(nx, ny, nz, delta, vx, vy, vz, ri, mi, tab, row,
+                                                 mc_hist, wc_k[i, s], dt)
+                        wc_f[i, s, 0] = cfx
+                        wc_f[i, s, 1] = cfy
+                        wc_f[i, s, 2] = cfz
+                        fx += cfx
+                        fy += cfy
+                        fz += cfz
+                        tx += dist * (ny * cfz - nz * cfy)
+                        ty += dist * (nz * cfx - nx * cfz)
+                        tz += dist * (nx * cfy - ny * cfx)
+                        if ROLL_ON:
+                            Mx, My, Mz = ROLL(w[i, 0], w[i, 1], w[i, 2], ri, F_n, tab, row, inertia[i],
+                                              dt)
+                            tx += Mx
+                            ty += My
+                            tz += Mz
+                        Qw = 0.0
+                        if HEAT_ON:
+                            if mw_hasT[wl]:
+                                a2 = 2.0 * ri * delta - delta * delta
+                                Tw = wa * mv_T[a] + wb * mv_T[b] + wcc * mv_T[c]
+                                Qw = COND(a2, tab, row) * (Tw - Ti)
+                            qi += Qw
+                        wc_q[i, s] = Qw
+                        nc += 1
+                wc_n[i] = ns
+                ncontact[i] += nc
+                f[i, 0] += fx
+                f[i, 1] += fy
+                f[i, 2] += fz
+                tq[i, 0] += tx
+                tq[i, 1] += ty
+                tq[i, 2] += tz
+                if HEAT_ON:
+                    q[i] += qi
+
+
+@pjit
+def final_integrate(n, kick, dt_heat, v, w, f, tq, q, mass, inertia, fixed, T, mcp_inv):
+    """Second half kick v += dt/2 F/m, omega += dt/2 T/I; heat T += dt Q/(m c_p)."""
+    for i in prange(n):
+        if not fixed[i]:
+            a = kick / mass[i]
+            b = kick / inertia[i]
+            for d in range(3):
+                v[i, d] += a * f[i, d]
+                w[i, d] += b * tq[i, d]
+        if HEAT_ON:
+            T[i] += dt_heat * q[i] * mcp_inv[i]
+
+
+@njit
+def plane_reduce(n, dt, x, pl_p, pl_n, pl_f, pl_q, pl_mask, pl_force, pl_torque, pl_imp,
+                 pl_heat):
+    """Force and torque of the particles ON each plane (torque about the plane's point);
+    accumulate impulse on particles (N s) and heat to particles (J)."""
+    npl = pl_p.shape[0]
+    pl_force[:] = 0.0
+    pl_torque[:] = 0.0
+    for i in range(n):
+        if pl_mask[i] == 0:
+            continue
+        for p in range(npl):
+            if not (pl_mask[i] >> p) & 1:
+                continue
+            Fx = pl_f[i, p, 0]
+            Fy = pl_f[i, p, 1]
+            Fz = pl_f[i, p, 2]
+            Nx = pl_n[p, 0]
+            Ny = pl_n[p, 1]
+            Nz = pl_n[p, 2]
+            rx = x[i, 0] - pl_p[p, 0]
+            ry = x[i, 1] - pl_p[p, 1]
+            rz = x[i, 2] - pl_p[p, 2]
+            dist = rx * Nx + ry * Ny + rz * Nz
+            rx -= dist * Nx
+            ry -= dist * Ny
+            rz -= dist * Nz
+            pl_force[p, 0] -= Fx
+            pl_force[p, 1] -= Fy
+            pl_force[p, 2] -= Fz
+            pl_torque[p, 0] -= ry * Fz - rz * Fy
+            pl_torque[p, 1] -= rz * Fx - rx * Fz
+            pl_torque[p, 2] -= rx * Fy - ry * Fx
+            pl_imp[p, 0] += Fx * dt
+            pl_imp[p, 1] += Fy * dt
+            pl_imp[p, 2] += Fz * dt
+            pl_heat[p] += pl_q[i, p] * dt
+
+
+@njit
+def mesh_scatter(n, dt, wc_n, wc_tri, wc_w, wc_f, wc_q, wc_pt, mt, mt_wall, mw_centre,
+                 mw_force, mw_torque, mt_force, mv_imp, mv_heat, mw_imp_p, mw_heat_p):
+    """Serial scatter of triangle contacts: wall force/torque (about ``mw_centre``) and
+    triangle forces ON the wall (this step), and the coupling accumulators
+    vertex_impulse += -F w_k dt, vertex_heat += -Q w_k dt, impulse_on_particles += F dt,
+    heat_to_particles += Q dt."""
+    mw_force[:] = 0.0
+    mw_torque[:] = 0.0
+    mt_force[:] = 0.0
+    for i in range(n):
+        for s in range(wc_n[i]):
+            t = wc_tri[i, s]
+            wl = mt_wall[t]
+            Fx = wc_f[i, s, 0]
+            Fy = wc_f[i, s, 1]
+            Fz = wc_f[i, s, 2]
+            Q = wc_q[i, s]
+            mw_force[wl, 0] -= Fx
+            mw_force[wl, 1] -= Fy
+            mw_force[wl, 2] -= Fz
+            mt_force[t, 0] -= Fx
+            mt_force[t, 1] -= Fy
+            mt_force[t, 2] -= Fz
+            rx = wc_pt[i, s, 0] - mw_centre[wl, 0]
+            ry = wc_pt[i, s, 1] - mw_centre[wl, 1]
+            rz = wc_pt[i, s, 2] - mw_centre[wl, 2]
+            mw_torque[wl, 0] -= ry * Fz - rz * Fy
+            mw_torque[wl, 1] -= rz * Fx - rx * Fz
+            mw_torque[wl, 2] -= rx * Fy - ry * Fx
+            for c in range(3):
+                a = mt[t, c]
+                wk = wc_w[i, s, c]
+                mv_imp[a, 0] -= Fx * wk * dt
+                mv_imp[a, 1] -= Fy * wk * dt
+                mv_imp[a, 2] -= Fz * wk * dt
+                mv_heat[a] -= Q * wk * dt
+            mw_imp_p[wl, 0] += Fx * dt
+            mw_imp_p[wl, 1] += Fy * dt
+            mw_imp_p[wl, 2] += Fz * dt
+            mw_heat_p[wl] += Q * dt
+
+
+@njit
+def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, *arrays):
+    """Run up to ``nsteps`` steps; stop early when the caller must act.
+
+    ``arrays``: the particle, pair-list, plane and mesh arrays in the order unpacked
+    below (flat, so that numba's fast argument dispatch applies).
+
+    Returns ``(steps_done, code, info)``: code 0 all done; 1 a rebuild is needed
+    (the step ``steps_done`` has drifted; resume it with ``skip_first_drift``);
+    2 ``info`` particles left the domain (same resume); 3 particle ``info`` blew up
+    (NaN or speed above sqrt(vmax2)) at step ``steps_done``.
+    """
+    (x, v, w, f, tq, q, radius, mass, inertia, T, mcp_inv, ptype, fixed, ncontact, x0,
+     table,
+     slab_start, slab_list, nb_start, nb_j, hist, pact,
+     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask, pl_force,
+     pl_torque, pl_imp, pl_heat,
+     mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
+     mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
+     wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
+     mv_imp, mv_heat, mw_imp_p, mw_heat_p) = arrays
+    n = x.shape[0]
+    half_dt = 0.5 * dt
+    npl = pl_p.shape[0]
+    nv = mv_x.shape[0]
+    for s in range(nsteps):
+        if not (s == 0 and skip_first_drift):
+            initial_integrate(n, x, v, w, f, tq, q, ncontact, mass, inertia, fixed, half_dt,
+                              dt, g[0], g[1], g[2])
+            wd2 = move_walls(dt, pl_p, pl_v, mv_x, mv_v, mv_x0, mv_wall, mw_rigid, mw_vel,
+                             mw_omega, mw_centre)
+            d2, nout, bad = scan(n, x, v, x0, lo, hi, vmax2)
+            if bad >= 0:
+                return s, 3, bad
+            if nout > 0:
+                return s, 2, nout
+            if d2 > half_skin2 or wd2 > half_skin2:
+                return s, 1, 0
+        else:
+            clear_forces(n, g[0], g[1], g[2], mass, f, tq, q, ncontact)
+        contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
+                       table, slab_start, slab_list, nb_start, nb_j, hist, pact,
+                       pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
+                       mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
+                       mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
+                       wc_f, wc_q, wc_pt, overflow)
+        final_integrate(n, half_dt, dt, v, w, f, tq, q, mass, inertia, fixed, T, mcp_inv)
+        if npl > 0:
+            plane_reduce(n, dt, x, pl_p, pl_n, pl_f, pl_q, pl_mask, pl_force, pl_torque,
+                         pl_imp, pl_heat)
+        if nv > 0:
+            mesh_scatter(n, dt, wc_n, wc_tri, wc_w, wc_f, wc_q, wc_pt, mt, mt_wall,
+                         mw_centre, mw_force, mw_torque, mt_force, mv_imp, mv_heat,
+                         mw_imp_p, mw_heat_p)
+    return nsteps, 0, 0
+
+
+@njit
+def compute_forces(g, *arrays):
+    """Forces, torques and contact springs' rotation at the current state, no motion,
+    no heat update (dt = 0): the start of a run and after external changes."""
+    (x, v, w, f, tq, q, radius, mass, inertia, T, mcp_inv, ptype, fixed, ncontact, x0,
+     table,
+     slab_start, slab_list, nb_start, nb_j, hist, pact,
+     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask, pl_force,
+     pl_torque, pl_imp, pl_heat,
+     mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
+     mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
+     wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
+     mv_imp, mv_heat, mw_imp_p, mw_heat_p) = arrays
+    n = x.shape[0]
+    clear_forces(n, g[0], g[1], g[2], mass, f, tq, q, ncontact)
+    contact_forces(n, 0.0, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
+                   table, slab_start, slab_list, nb_start, nb_j, hist, pact,
+                   pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
+                   mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
+                   mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
+                   wc_f, wc_q, wc_pt, overflow)
+
+
+@njit
+def heat_conductance_sum(*arrays):
+    """Per particle sum_j H_ij (W/K) over touching pairs and walls with a temperature
+    (triangle contacts as found at the last step)."""
+    (x, v, w, f, tq, q, radius, mass, inertia, T, mcp_inv, ptype, fixed, ncontact, x0,
+     table,
+     slab_start, slab_list, nb_start, nb_j, hist, pact,
+     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask, pl_force,
+     pl_torque, pl_imp, pl_heat,
+     mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
+     mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
+     wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
+     mv_imp, mv_heat, mw_imp_p, mw_heat_p) = arrays
+    n = x.shape[0]
+    nt = table.shape[0]
+    tab = table.reshape((nt * nt, table.shape[2]))
+    Hs = np.zeros(n)
+    for i in range(n):
+        ri = radius[i]
+        for k in range(nb_start[i], nb_start[i + 1]):
+            j = nb_j[k]
+            rj = radius[j]
+            L2 = 0.0
+            for d in range(3):
+                L2 += (x[j, d] - x[i, d]) ** 2
+            if L2 >= (ri + rj) ** 2 or L2 == 0.0:
+                continue
+            L = math.sqrt(L2)
+            s = (ri * ri - rj * rj + L2) / (2.0 * L)
+            H = COND(ri * ri - s * s, tab, ptype[i] * nt + ptype[j])
+            Hs[i] += H
+            Hs[j] += H
+        for p in range(pl_p.shape[0]):
+            if not pl_hasT[p]:
+                continue
+            dist = 0.0
+            for d in range(3):
+                dist += (x[i, d] - pl_p[p, d]) * pl_n[p, d]
+            delta = ri - dist
+            if delta > 0.0:
+                Hs[i] += COND(2.0 * ri * delta - delta * delta, tab, ptype[i] * nt + pl_type[p])
+        for s in range(wc_n[i]):
+            wl = mt_wall[wc_tri[i, s]]
+            if not mw_hasT[wl]:
+                continue
+            dist = 0.0
+            for d in range(3):
+                dist += (wc_pt[i, s, d] - x[i, d]) ** 2
+            delta = ri - math.sqrt(dist)
+            if delta > 0.0:
+                Hs[i] += COND(2.0 * ri * delta - delta * delta, tab, ptype[i] * nt + mw_type[wl])
+    return Hs

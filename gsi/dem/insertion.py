@@ -1,0 +1,244 @@
+"""Particle insertion: lattice and random fills, and continuous insertion at a rate.
+
+Regions: :class:`Box` (lo, hi corners, m) and :class:`Cylinder` (vertical: axis centre
+(x, y), radius, z range, m).  Particles are placed with their whole sphere inside the
+region.
+
+- :func:`lattice_fill` — simple-cubic lattice of spheres filling a box.
+- :func:`random_fill` — random non-overlapping spheres in a box or cylinder, given a
+  count or a volume fraction; raises GsiInputError when it cannot place them
+  (sequential random insertion jams near a volume fraction of about 0.3-0.35).
+- :class:`Inserter` (``sim.add_inserter``) — inserts ``rate`` particles/s at random
+  spots of a region with an initial velocity, skipping spots that overlap existing
+  or just-inserted particles (after 20 tries per particle; skipped ones are counted in
+  ``n_skipped`` and not retried), up to ``max_count``.  The simulation calls it at the
+  steps when particles are due.
+"""
+import math
+
+import numpy as np
+
+from gsi.errors import GsiInputError
+from gsi.dem.distributions import as_distribution
+
+
+class Box:
+    """Axis-aligned box region between corners ``lo`` and ``hi`` (m)."""
+
+    def __init__(self, lo, hi):
+        self.lo = np.asarray(lo, float)
+        self.hi = np.asarray(hi, float)
+        if self.lo.shape != (3,) or self.hi.shape != (3,) or not (self.hi > self.lo).all():
+            raise GsiInputError(f"region.box = {lo}, {hi}: need lo < hi, 3 numbers each (m)")
+
+    @property
+    def volume(self):
+        return float(np.prod(self.hi - self.lo))
+
+    def bounds(self):
+        return self.lo, self.hi
+
+    def sample(self, rng, r):
+        """Random centres (len(r), 3) whose spheres of radii r lie inside."""
+        r = np.asarray(r)[:, None]
+        if ((self.hi - self.lo) < 2 * r).any():
+            raise GsiInputError(f"region.box size {(self.hi - self.lo).tolist()}: smaller than a particle diameter")
+        return self.lo + r + rng.random((len(r), 3)) * (self.hi - self.lo - 2 * r)
+
+
+class Cylinder:
+    """Vertical cylinder region: axis through ``centre`` = (x, y), ``radius``, z in [zlo, zhi] (m)."""
+
+    def __init__(self, centre, radius, zlo, zhi):
+        self.centre = np.asarray(centre, float)[:2]
+        self.radius = float(radius)
+        self.zlo, self.zhi = float(zlo), float(zhi)
+        if not (self.radius > 0 and self.zhi > self.zlo):
+            raise GsiInputError(f"region.cylinder radius = {radius}, z = [{zlo}, {zhi}]: need radius > 0, zhi > zlo (m)")
+
+    @property
+    def volume(self):
+        return math.pi * self.radius ** 2 * (self.zhi - self.zlo)
+
+    def bounds(self):
+        c = self.centre
+        return (np.array([c[0] - self.radius, c[1] - self.radius, self.zlo]),
+                np.array([c[0] + self.radius, c[1] + self.radius, self.zhi]))
+
+    def sample(self, rng, r):
+        r = np.asarray(r)
+        if (r >= self.radius).any() or (2 * r > self.zhi - self.zlo).any():
+            raise GsiInputError(f"region.cylinder radius = {self.radius}: smaller than a particle")
+        rho = (self.radius - r) * np.sqrt(rng.random(len(r)))
+        phi = 2 * math.pi * rng.random(len(r))
+        z = self.zlo + r + rng.random(len(r)) * (self.zhi - self.zlo - 2 * r)
+        return np.column_stack([self.centre[0] + rho * np.cos(phi),
+                                self.centre[1] + rho * np.sin(phi), z])
+
+
+def lattice_fill(box, radius, *, spacing=None):
+    """Centres of a simple-cubic lattice of spheres of ``radius`` (m) filling ``box``.
+
+    ``spacing`` (m) defaults to 2.02 radius; the lattice starts one radius inside.
+    """
+    spacing = 2.02 * radius if spacing is None else spacing
+    if not (radius > 0 and spacing >= 2 * radius):
+        raise GsiInputError(f"lattice spacing = {spacing}: must be >= the diameter {2 * radius} (m)")
+    axes = [np.arange(lo + radius, hi - radius + 1e-12 * spacing, spacing)
+            for lo, hi in zip(box.lo, box.hi)]
+    g = np.meshgrid(*axes, indexing="ij")
+    return np.column_stack([a.ravel() for a in g])
+
+
+def _overlaps(xc, rc, x, r):
+    if len(x) == 0:
+        return False
+    d2 = ((x - xc) ** 2).sum(1)
+    return bool((d2 < (r + rc) ** 2).any())
+
+
+def random_fill(region, radius, *, count=None, volume_fraction=None, rng=None,
+                existing_x=None, existing_r=None, max_tries=200):
+    """Random non-overlapping spheres in a region.
+
+    Parameters
+    ----------
+    region : Box or Cylinder
+    radius : float or distribution
+        Radii (m).
+    count : int, optional
+        Number of particles; or
+    volume_fraction : float, optional
+        Solid volume fraction of the region (-) to fill.
+    rng : numpy.random.Generator, optional
+    existing_x, existing_r : arrays, optional
+        Particles already present that new ones must not overlap.
+    max_tries : int
+        Tries per particle before giving up.
+
+    Returns
+    -------
+    x (k, 3), r (k,)
+    """
+    rng = np.random.default_rng() if rng is None else rng
+    dist = as_distribution(radius)
+    if (count is None) == (volume_fraction is None):
+        raise GsiInputError("random_fill: give exactly one of count or volume_fraction")
+    if count is not None:
+        if count < 0:
+            raise GsiInputError(f"random_fill.count = {count}: must be >= 0")
+        r = dist.sample(rng, int(count))
+    else:
+        if not 0 < volume_fraction < 0.6:
+            raise GsiInputError(f"random_fill.volume_fraction = {volume_fraction}: must be in (0, 0.6)")
+        target = volume_fraction * region.volume
+        chunks, vol = [], 0.0
+        while vol < target:
+            c = dist.sample(rng, 256)
+            cv = np.cumsum(4 / 3 * math.pi * c ** 3)
+            take = int(np.searchsorted(cv, target - vol)) + 1
+            chunks.append(c[:take])
+            vol += cv[min(take, len(c)) - 1]
+        r = np.concatenate(chunks)
+    r = np.sort(r)[::-1]          # big ones first place more easily
+    ex = np.zeros((0, 3)) if existing_x is None else np.asarray(existing_x, float)
+    er = np.zeros(0) if existing_r is None else np.asarray(existing_r, float)
+    x = np.empty((len(r), 3))
+    for k, rk in enumerate(r):
+        for _ in range(max_tries):
+            xc = region.sample(rng, np.array([rk]))[0]
+            if not _overlaps(xc, rk, x[:k], r[:k]) and not _overlaps(xc, rk, ex, er):
+                x[k] = xc
+                break
+        else:
+            phi = float((4 / 3 * math.pi * r[:k] ** 3).sum() / region.volume)
+            raise GsiInputError(
+                f"random_fill: placed {k} of {len(r)} particles (volume fraction {phi:.3f}) "
+                f"after {max_tries} tries for the next one; lower count/volume_fraction or "
+                "enlarge the region (random insertion jams near 0.3)")
+    return x, r
+
+
+class Inserter:
+    """Continuous insertion into a region at ``rate`` particles/s (see module docstring).
+
+    Parameters
+    ----------
+    sim : Simulation
+    region : Box or Cylinder
+    rate : float
+        Particles per second (> 0).
+    radius : float or distribution
+        Radii (m).
+    material : str
+    velocity : (3,) float
+        Initial velocity (m/s).
+    max_count : int, optional
+        Stop after this many attempts (None: no limit).
+    T : float, optional
+        Initial temperature.
+    start : float
+        Time (s) from which insertion runs.
+    """
+
+    def __init__(self, sim, region, rate, *, radius, material, velocity=(0.0, 0.0, 0.0),
+                 max_count=None, T=None, start=0.0):
+        if not rate > 0:
+            raise GsiInputError(f"inserter.rate = {rate}: must be > 0 (particles/s)")
+        if max_count is not None and max_count < 0:
+            raise GsiInputError(f"inserter.max_count = {max_count}: must be >= 0")
+        sim._material(material, "inserter.material")
+        self.sim, self.region, self.rate = sim, region, float(rate)
+        self.dist = as_distribution(radius, key="inserter.radius")
+        self.material = material
+        self.velocity = np.asarray(velocity, float)
+        self.max_count = max_count
+        self.T = T
+        self.start = float(start)
+        self.n_attempted = 0
+        self.n_inserted = 0
+        self.n_skipped = 0
+
+    def _due(self):
+        due = int(math.floor(self.rate * (self.sim.time - self.start) + 1e-9))
+        if self.max_count is not None:
+            due = min(due, self.max_count)
+        return due
+
+    def steps_to_next(self):
+        """Steps until the next particle is due (>= 1; large when finished)."""
+        if self.max_count is not None and self.n_attempted >= self.max_count:
+            return 1 << 40
+        t_next = self.start + (self.n_attempted + 1) / self.rate
+        return max(1, int(math.ceil((t_next - self.sim.time) / self.sim.dt - 1e-9)))
+
+    def maybe_insert(self):
+        """Insert the particles due by now; returns how many were inserted."""
+        k = self._due() - self.n_attempted
+        if k <= 0:
+            return 0
+        sim = self.sim
+        rng = sim.rng
+        r = self.dist.sample(rng, k)
+        lo, hi = self.region.bounds()
+        reach = 2 * max(self.dist.r_max, float(sim.radius.max()) if sim.n else 0.0)
+        near = ((sim.x > lo - reach) & (sim.x < hi + reach)).all(1) if sim.n else np.zeros(0, bool)
+        ex, er = sim.x[near].copy(), sim.radius[near].copy()
+        placed_x, placed_r = [], []
+        for rk in r:
+            for _ in range(20):
+                xc = self.region.sample(rng, np.array([rk]))[0]
+                if not _overlaps(xc, rk, ex, er):
+                    placed_x.append(xc)
+                    placed_r.append(rk)
+                    ex = np.vstack([ex, xc])
+                    er = np.append(er, rk)
+                    break
+            else:
+                self.n_skipped += 1
+        self.n_attempted += k
+        if placed_x:
+            sim.add_particles(np.array(placed_x), np.array(placed_r), material=self.material,
+                              v=self.velocity, T=self.T)
+        self.n_inserted += len(placed_x)
+        return len(placed_x)

@@ -1,0 +1,291 @@
+"""Neighbour search: cell-linked list and half Verlet list with skin; triangle candidates.
+
+- The domain box is cut into cells no smaller than 2 R_max + skin, so the 27 cells
+  around a particle hold all its possible partners.
+- Half list: pair (i, j) is stored once when |x_i - x_j| < R_i + R_j + skin, by the
+  particle in the lower *slab* (slabs: the layers of cells along the axis where the
+  particles spread most; ties by the smaller index).  The force kernel then writes
+  only to its own slab and the next one, so slabs of one parity run in parallel
+  without races (see :func:`gsi.dem.engine.contact_forces`).
+- The list is rebuilt when any particle (or wall vertex) has moved more than skin/2
+  since the last build.  Tangential springs survive a rebuild: each new pair looks
+  its partners up in the old list through ``old_of_new`` (new index -> old index,
+  -1 for new particles) and copies the spring (negated if the pair is stored the
+  other way round).
+- Triangle candidates: triangles are binned into the cells near them (inflated by
+  R_max + skin); particle i keeps the triangles of its cell closer than R_i + skin.
+"""
+import math
+
+import numpy as np
+
+from gsi.jit import njit, pjit, prange
+from gsi.dem.geometry import closest_point_triangle
+
+
+def grid_for(lo, hi, cell_min, n):
+    """Cell grid of the domain: ``(dims (3,) int64, inv_cs (3,) float)``.
+
+    Cells are at least ``cell_min`` (m) wide; the count is capped near max(4096, 8 n)
+    by widening them (a sparse system in a large box).
+    """
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    ext = hi - lo
+    cs = max(cell_min, 1e-300)
+    while True:
+        dims = np.maximum(1, np.floor(ext / cs)).astype(np.int64)
+        if dims.prod() <= max(4096, 8 * n):
+            break
+        cs *= 1.26
+    return dims, dims / ext
+
+
+@njit
+def cell_index(n, x, lo, inv_cs, dims, cell_of):
+    """Cell of each particle (clamped into the grid)."""
+    for i in range(n):
+        c = 0
+        for d in range(3):          # c = (kx dims[1] + ky) dims[2] + kz
+            k = int(math.floor((x[i, d] - lo[d]) * inv_cs[d]))
+            if k < 0:
+                k = 0
+            elif k >= dims[d]:
+                k = dims[d] - 1
+            c = c * dims[d] + k
+        cell_of[i] = c
+
+
+@njit
+def bin_cells(n, cell_of, ncell):
+    """Counting sort of particles by cell: ``(cell_start (ncell+1), cell_list (n))``."""
+    cell_start = np.zeros(ncell + 1, np.int64)
+    for i in range(n):
+        cell_start[cell_of[i] + 1] += 1
+    for c in range(ncell):
+        cell_start[c + 1] += cell_start[c]
+    fill = cell_start[:-1].copy()
+    cell_list = np.empty(n, np.int32)
+    for i in range(n):
+        c = cell_of[i]
+        cell_list[fill[c]] = i
+        fill[c] += 1
+    return cell_start, cell_list
+
+
+@njit(inline="always")
+def _unravel(c, dims):
+    cx = c // (dims[1] * dims[2])
+    r = c - cx * dims[1] * dims[2]
+    cy = r // dims[2]
+    cz = r - cy * dims[2]
+    return cx, cy, cz
+
+
+@pjit
+def count_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, counts):
+    """Number of half-list partners of each particle (within R_i + R_j + skin, in a
+    higher slab, or in the same slab with a higher index)."""
+    for i in prange(n):
+        cx, cy, cz = _unravel(cell_of[i], dims)
+        cnt = 0
+        ri = radius[i]
+        si = slab_of[i]
+        for ax in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+            for ay in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+                for az in range(max(cz - 1, 0), min(cz + 2, dims[2])):
+                    c2 = (ax * dims[1] + ay) * dims[2] + az
+                    for m in range(cell_start[c2], cell_start[c2 + 1]):
+                        j = cell_list[m]
+                        sj = slab_of[j]
+                        if sj < si or (sj == si and j <= i):
+                            continue
+                        rc = ri + radius[j] + skin
+                        d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
+                              + (x[j, 2] - x[i, 2]) ** 2)
+                        if d2 < rc * rc:
+                            cnt += 1
+        counts[i] = cnt
+
+
+@pjit
+def fill_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_start,
+               nb_j):
+    """Partners of each particle into ``nb_j[nb_start[i]:nb_start[i+1]]``."""
+    for i in prange(n):
+        cx, cy, cz = _unravel(cell_of[i], dims)
+        pos = nb_start[i]
+        ri = radius[i]
+        si = slab_of[i]
+        for ax in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+            for ay in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+                for az in range(max(cz - 1, 0), min(cz + 2, dims[2])):
+                    c2 = (ax * dims[1] + ay) * dims[2] + az
+                    for m in range(cell_start[c2], cell_start[c2 + 1]):
+                        j = cell_list[m]
+                        sj = slab_of[j]
+                        if sj < si or (sj == si and j <= i):
+                            continue
+                        rc = ri + radius[j] + skin
+                        d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
+                              + (x[j, 2] - x[i, 2]) ** 2)
+                        if d2 < rc * rc:
+                            nb_j[pos] = j
+                            pos += 1
+
+
+@njit
+def slab_sort(n, cell_of, cell_list, dims, axis):
+    """Slabs of cells along ``axis``: ``(slab_of (n), slab_start (nslab+1), slab_list (n))``,
+    particles of a slab in cell order (locality)."""
+    nslab = dims[axis]
+    slab_of = np.empty(n, np.int64)
+    for i in range(n):
+        c = cell_of[i]
+        cx = c // (dims[1] * dims[2])
+        r = c - cx * dims[1] * dims[2]
+        cy = r // dims[2]
+        cz = r - cy * dims[2]
+        slab_of[i] = cx if axis == 0 else (cy if axis == 1 else cz)
+    slab_start = np.zeros(nslab + 1, np.int64)
+    for i in range(n):
+        slab_start[slab_of[i] + 1] += 1
+    for s in range(nslab):
+        slab_start[s + 1] += slab_start[s]
+    fill = slab_start[:-1].copy()
+    slab_list = np.empty(n, np.int64)
+    for m in range(n):
+        i = cell_list[m]
+        s = slab_of[i]
+        slab_list[fill[s]] = i
+        fill[s] += 1
+    return slab_of, slab_start, slab_list
+
+
+@pjit
+def carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, old_start, old_j,
+                       old_hist, old_pact):
+    """Copy each surviving pair's spring and contact flag from the old half list."""
+    n_old = old_start.shape[0] - 1
+    for i in prange(n):
+        oi = old_of_new[i]
+        if oi < 0 or oi >= n_old:
+            continue
+        for k in range(nb_start[i], nb_start[i + 1]):
+            oj = old_of_new[nb_j[k]]
+            if oj < 0 or oj >= n_old:
+                continue
+            found = False
+            for ko in range(old_start[oi], old_start[oi + 1]):
+                if old_j[ko] == oj:
+                    hist[k, 0] = old_hist[ko, 0]
+                    hist[k, 1] = old_hist[ko, 1]
+                    hist[k, 2] = old_hist[ko, 2]
+                    pact[k] = old_pact[ko]
+                    found = True
+                    break
+            if not found:
+                for ko in range(old_start[oj], old_start[oj + 1]):
+                    if old_j[ko] == oi:
+                        hist[k, 0] = -old_hist[ko, 0]
+                        hist[k, 1] = -old_hist[ko, 1]
+                        hist[k, 2] = -old_hist[ko, 2]
+                        pact[k] = old_pact[ko]
+                        break
+
+
+@njit
+def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
+    """Triangles per cell: each triangle goes into the cells of its bounding box
+    (inflated by ``inflate``, m) whose centre lies within half a cell diagonal plus
+    ``inflate`` of the triangle.  Returns ``(tcell_start, tcell_list)``."""
+    nt = mt.shape[0]
+    ncell = dims[0] * dims[1] * dims[2]
+    cs = 1.0 / inv_cs
+    half_diag = 0.5 * math.sqrt(cs[0] ** 2 + cs[1] ** 2 + cs[2] ** 2)
+    reach2 = (half_diag + inflate) ** 2
+    counts = np.zeros(ncell + 1, np.int64)
+    for sweep in range(2):
+        if sweep == 1:
+            for c in range(ncell):
+                counts[c + 1] += counts[c]
+            fill = counts[:-1].copy()
+            tcell_list = np.empty(counts[ncell], np.int32)
+        for t in range(nt):
+            a = mt[t, 0]
+            b = mt[t, 1]
+            c_ = mt[t, 2]
+            kmin = np.empty(3, np.int64)
+            kmax = np.empty(3, np.int64)
+            for d in range(3):
+                mn = min(mv_x[a, d], mv_x[b, d], mv_x[c_, d]) - inflate
+                mx = max(mv_x[a, d], mv_x[b, d], mv_x[c_, d]) + inflate
+                kmin[d] = max(0, int(math.floor((mn - lo[d]) * inv_cs[d])))
+                kmax[d] = min(dims[d] - 1, int(math.floor((mx - lo[d]) * inv_cs[d])))
+            for ax in range(kmin[0], kmax[0] + 1):
+                for ay in range(kmin[1], kmax[1] + 1):
+                    for az in range(kmin[2], kmax[2] + 1):
+                        px = lo[0] + (ax + 0.5) * cs[0]
+                        py = lo[1] + (ay + 0.5) * cs[1]
+                        pz = lo[2] + (az + 0.5) * cs[2]
+                        qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
+                            px, py, pz, mv_x[a, 0], mv_x[a, 1], mv_x[a, 2],
+                            mv_x[b, 0], mv_x[b, 1], mv_x[b, 2],
+                            mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2])
+                        if (qx - px) ** 2 + (qy - py) ** 2 + (qz - pz) ** 2 > reach2:
+                            continue
+                        cell = (ax * dims[1] + ay) * dims[2] + az
+                        if sweep == 0:
+                            counts[cell + 1] += 1
+                        else:
+                            tcell_list[fill[cell]] = t
+                            fill[cell] += 1
+    return counts, tcell_list
+
+
+@pjit
+def tri_candidates(n, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt,
+                   mc_start, mc_tri, count_only):
+    """Triangles closer than R_i + skin to particle i (count, or fill ``mc_tri``)."""
+    for i in prange(n):
+        c = cell_of[i]
+        rc = radius[i] + skin
+        rc2 = rc * rc
+        cnt = 0
+        pos = mc_start[i]
+        for m in range(tcell_start[c], tcell_start[c + 1]):
+            t = tcell_list[m]
+            a = mt[t, 0]
+            b = mt[t, 1]
+            c_ = mt[t, 2]
+            qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
+                x[i, 0], x[i, 1], x[i, 2], mv_x[a, 0], mv_x[a, 1], mv_x[a, 2],
+                mv_x[b, 0], mv_x[b, 1], mv_x[b, 2], mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2])
+            d2 = (qx - x[i, 0]) ** 2 + (qy - x[i, 1]) ** 2 + (qz - x[i, 2]) ** 2
+            if d2 < rc2:
+                if count_only:
+                    cnt += 1
+                else:
+                    mc_tri[pos] = t
+                    pos += 1
+        if count_only:
+            mc_start[i + 1] = cnt
+
+
+@pjit
+def carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old_start, old_tri,
+                      old_hist):
+    """Copy each surviving (particle, triangle) spring from the old candidate list."""
+    n_old = old_start.shape[0] - 1
+    for i in prange(n):
+        oi = old_of_new[i]
+        if oi < 0 or oi >= n_old:
+            continue
+        for k in range(mc_start[i], mc_start[i + 1]):
+            t = mc_tri[k]
+            for ko in range(old_start[oi], old_start[oi + 1]):
+                if old_tri[ko] == t:
+                    mc_hist[k, 0] = old_hist[ko, 0]
+                    mc_hist[k, 1] = old_hist[ko, 1]
+                    mc_hist[k, 2] = old_hist[ko, 2]
+                    break

@@ -1,0 +1,734 @@
+"""The DEM simulation: particles, walls, inserters, neighbour lists and the step loop.
+
+Usage::
+
+    from gsi.dem import Simulation, Material
+    sim = Simulation(materials={"glass": Material(E=5e6, nu=0.3, rho=2500, e=0.5, mu=0.5)},
+                     contact="hertz", rolling=False, heat=None, h_c=None, k_n=None,
+                     gravity=(0, 0, -9.81), dt=2e-6, skin=4e-4,
+                     domain=((0, 0, 0), (0.1, 0.1, 0.3)), force_dt=False)
+    ids = sim.add_particles(x, radius, material="glass", v=None, T=None)  # -> particle ids
+    floor = sim.add_plane(point=(0, 0, 0), normal=(0, 0, 1), material="glass")
+    wall = sim.add_mesh_wall(vertices, triangles, material="glass")  # or add_mesh_wall_file
+    wall.set_motion(velocity=(0, 0, 0), omega=(0, 0, 1.0), centre=(0, 0, 0))
+    sim.add_inserter(region, rate=1000.0, radius=Uniform(1e-3, 1.5e-3), material="glass",
+                     velocity=(0, 0, -1), max_count=5000)
+    sim.step(1000)
+    sim.time, sim.n, sim.kinetic_energy(), sim.contact_count(), sim.n_lost
+
+Particles are addressed by *id* (stable, returned by ``add_particles``); their row in
+the state arrays (``sim.x``, ``sim.v``, ... views of the first ``n`` rows) can change
+when particles are deleted; ``sim.index(ids)`` maps ids to rows.
+
+Choices made here (DESIGN.md is silent):
+
+- Time step: Hertz: warn above 0.3 t_R, refuse above t_R (GsiInputError) unless
+  ``force_dt``; t_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766), min over the particles.
+  Linear: the pair contact lasts t_c = pi sqrt(m*/k_n) with m* = m_min/2; refuse
+  dt > t_c/10 (fewer than 10 steps per contact), warn dt > t_c/50.
+- Heat: explicit Euler T += dt Q/(m c_p) each step.  ``heat_stability()`` returns
+  max_i dt sum_j H_ij/(m_i c_p,i) (pairs and planes with a temperature); it is checked
+  at every neighbour rebuild: above 1 a GsiRunError (unless ``force_dt``), above 0.5 a
+  warning.
+- A particle outside the domain box is deleted and counted in ``n_lost``
+  (``lost="error"`` raises GsiRunError instead).  A NaN or a speed above ``v_max``
+  (m/s, default 100) stops the run with GsiRunError.
+- Particles can be held in place: ``sim.fix(ids)`` (they feel forces, exchange heat,
+  but do not move).
+
+How it runs (for speed, see ``benchmarks/settle.py``):
+
+- The contact law, rolling law and heat model are compiled into one engine module per
+  combination (:mod:`gsi.dem.engine_factory`), cached on disk by numba; the first run
+  of a combination compiles for about a minute.
+- ``sim.step(n)`` runs the n steps inside one compiled call, returning to Python only
+  to rebuild the neighbour list (any particle moved more than skin/2), to delete lost
+  particles or to insert particles.
+- Threads: numba's (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``); below
+  ``parallel_min_n`` particles one thread is used.  The pair loop is parallel over
+  slabs of cells in two colours (no atomics, no per-pair buffers), so each pair's law
+  is evaluated once and Newton's third law holds exactly.  Use at most as many
+  threads as free cores: an OpenMP barrier waiting for a descheduled thread costs a
+  whole scheduler time slice per parallel region.
+"""
+import math
+import warnings
+
+import numba
+import numpy as np
+
+from gsi.errors import GsiInputError, GsiRunError
+from gsi.dem.materials import Material, pair_table, rayleigh_time
+from gsi.dem.engine_factory import get_engine
+from gsi.dem import neighbour as nbr
+from gsi.dem.walls import PlaneWall, MeshWall, triangle_edges, _vec3
+
+MAX_WALL_SLOTS = 8
+
+# per-particle arrays: name -> (trailing shape, dtype); "npl" and "S" are filled in
+_FIELDS = {
+    "x": ((3,), np.float64), "v": ((3,), np.float64), "omega": ((3,), np.float64),
+    "force": ((3,), np.float64), "torque": ((3,), np.float64),
+    "radius": ((), np.float64), "mass": ((), np.float64), "inertia": ((), np.float64),
+    "q": ((), np.float64),
+    "T": ((), np.float64), "mcp_inv": ((), np.float64), "type": ((), np.int32),
+    "fixed": ((), np.uint8), "ncontact": ((), np.int32), "x0": ((3,), np.float64),
+    "id": ((), np.int64),
+    "pl_hist": (("npl", 3), np.float64), "pl_f": (("npl", 3), np.float64),
+    "pl_q": (("npl",), np.float64), "pl_mask": ((), np.int64),
+    "wc_n": ((), np.int32), "wc_tri": (("S",), np.int32), "wc_kind": (("S",), np.int32),
+    "wc_fid": (("S",), np.int64), "wc_k": (("S",), np.int64), "wc_w": (("S", 3), np.float64),
+    "wc_f": (("S", 3), np.float64), "wc_q": (("S",), np.float64),
+    "wc_pt": (("S", 3), np.float64),
+}
+
+
+class Simulation:
+    """A DEM simulation (see the module docstring for the shape of the API).
+
+    Parameters
+    ----------
+    materials : dict of str -> Material
+        Particle and wall materials by name.
+    contact : str, default "hertz"
+        Contact law ("hertz", "linear"; see :mod:`gsi.dem.contact`).
+    rolling : bool, default False
+        Rolling resistance (constant directional torque, coefficient ``Material.mu_r``).
+    heat : {None, "area", "radius", "constant"}
+        Contact conduction model (:mod:`gsi.dem.heat`); None: no heat.
+    h_c : float, optional
+        Conductance of the "constant" model (W/K).
+    k_n : float, optional
+        Normal stiffness of the "linear" law (N/m).
+    gravity : (3,) float, default (0, 0, -9.81)
+        (m/s^2).
+    dt : float
+        Time step (s).
+    skin : float
+        Neighbour-list skin (m).
+    domain : ((3,), (3,))
+        Lower and upper corner of the domain box (m); particles leaving it are lost.
+    force_dt : bool, default False
+        Run even when the time-step checks refuse.
+    v_max : float, default 100.0
+        Speed (m/s) above which a particle counts as blown up.
+    lost : {"delete", "error"}
+        What happens to particles leaving the domain.
+    pair_overrides : dict, optional
+        ``{("mat_a", "mat_b"): {"e": .., "mu": .., "mu_r": ..}}``.
+    seed : int, optional
+        Seed of the random generator used by inserters.
+    parallel_min_n : int, default 2000
+        Below this many particles the kernels run on one thread (thread start-up
+        costs more than it saves for small systems).
+    """
+
+    def __init__(self, materials, *, contact="hertz", rolling=False, heat=None, h_c=None,
+                 k_n=None, gravity=(0.0, 0.0, -9.81), dt, skin, domain, force_dt=False,
+                 v_max=100.0, lost="delete", pair_overrides=None, seed=None,
+                 parallel_min_n=2000):
+        if not materials:
+            raise GsiInputError("materials = {}: give at least one Material")
+        for name, m in materials.items():
+            if not isinstance(m, Material):
+                raise GsiInputError(f"materials.{name} = {m!r}: must be a gsi.dem.Material")
+            m.validate(name)
+        self.materials = dict(materials)
+        self._mat_names = list(self.materials)
+        self._mat_index = {k: i for i, k in enumerate(self._mat_names)}
+        if not (dt > 0 and math.isfinite(dt)):
+            raise GsiInputError(f"dt = {dt}: must be > 0 (s)")
+        if not (skin > 0):
+            raise GsiInputError(f"skin = {skin}: must be > 0 (m)")
+        if contact == "linear" and not (k_n is not None and k_n > 0):
+            raise GsiInputError(f"k_n = {k_n}: the linear law needs a normal stiffness > 0 (N/m)")
+        if heat == "constant" and not (h_c is not None and h_c >= 0):
+            raise GsiInputError(f"h_c = {h_c}: the constant heat model needs a conductance >= 0 (W/K)")
+        if lost not in ("delete", "error"):
+            raise GsiInputError(f"lost = {lost!r}: must be 'delete' or 'error'")
+        lo, hi = (np.asarray(domain[0], float), np.asarray(domain[1], float))
+        if lo.shape != (3,) or hi.shape != (3,) or not (hi > lo).all():
+            raise GsiInputError(f"domain = {domain}: must be ((xlo, ylo, zlo), (xhi, yhi, zhi)) with hi > lo (m)")
+        self.engine = get_engine(contact, rolling, heat)
+        self.contact, self.rolling, self.heat = contact, rolling, heat
+        self.k_n, self.h_c = k_n, h_c
+        self.g = _vec3(gravity, "gravity")
+        self.dt, self.skin = float(dt), float(skin)
+        self.lo, self.hi = lo, hi
+        self.force_dt, self.v_max, self.lost = force_dt, float(v_max), lost
+        self._overrides = {}
+        for (a, b), d in (pair_overrides or {}).items():
+            for mname in (a, b):
+                if mname not in self._mat_index:
+                    raise GsiInputError(f"pair_overrides.{a}-{b}: unknown material {mname!r}")
+            self._overrides[(self._mat_index[a], self._mat_index[b])] = d
+        self.table = pair_table([self.materials[k] for k in self._mat_names],
+                                k_n=k_n or 0.0, h_c=h_c or 0.0, pair_overrides=self._overrides)
+        self.rng = np.random.default_rng(seed)
+        self.parallel_min_n = int(parallel_min_n)
+        self.time = 0.0
+        self.step_count = 0
+        self.n = 0
+        self.n_lost = 0
+        self._cap = 0
+        self._next_id = 0
+        self._npl = 0
+        self._S = 0
+        self._a = {}
+        self._alloc(16)
+        # planes
+        self.planes = []
+        self._pl_p = np.zeros((0, 3))
+        self._pl_n = np.zeros((0, 3))
+        self._pl_v = np.zeros((0, 3))
+        self._pl_type = np.zeros(0, np.int32)
+        self._pl_T = np.zeros(0)
+        self._pl_hasT = np.zeros(0, np.uint8)
+        self._pl_force = np.zeros((0, 3))
+        self._pl_torque = np.zeros((0, 3))
+        self._pl_imp = np.zeros((0, 3))
+        self._pl_heat = np.zeros(0)
+        # meshes
+        self.mesh_walls = []
+        self._mesh_arrays(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int32),
+                          np.zeros((0, 3), np.int32), np.zeros(0, np.int32))
+        self._mw_type = np.zeros(0, np.int32)
+        self._mw_hasT = np.zeros(0, np.uint8)
+        self._mw_rigid = np.zeros(0, np.uint8)
+        self._mw_vel = np.zeros((0, 3))
+        self._mw_omega = np.zeros((0, 3))
+        self._mw_centre = np.zeros((0, 3))
+        self._mw_force = np.zeros((0, 3))
+        self._mw_torque = np.zeros((0, 3))
+        self._mw_imp_p = np.zeros((0, 3))
+        self._mw_heat_p = np.zeros(0)
+        self._overflow = np.zeros(1, np.int64)
+        self.inserters = []
+        self._need_rebuild = True
+        self._forces_valid = False
+        self._dt_checked = False
+        self.n_rebuilds = 0
+        self._heat_warned = False
+        self._nb = None
+        self._mc = None
+
+    # ------------------------------------------------------------------ storage
+    def _shape(self, cap, trail):
+        return (cap,) + tuple({"npl": self._npl, "S": self._S}.get(t, t) for t in trail)
+
+    def _alloc(self, cap):
+        new = {}
+        for name, (trail, dtype) in _FIELDS.items():
+            arr = np.zeros(self._shape(cap, trail), dtype)
+            old = self._a.get(name)
+            if old is not None and self.n:
+                src = old[: self.n]
+                sl = tuple(slice(0, min(a, b)) for a, b in zip(src.shape, arr.shape))
+                arr[sl] = src[sl]
+            new[name] = arr
+        self._a = new
+        self._cap = cap
+
+    def _p(self, name):
+        return self._a[name][: self.n]
+
+    @property
+    def x(self):
+        """Positions (n, 3) (m), a view."""
+        return self._p("x")
+
+    @property
+    def v(self):
+        """Velocities (n, 3) (m/s), a view."""
+        return self._p("v")
+
+    @property
+    def omega(self):
+        """Angular velocities (n, 3) (rad/s), a view."""
+        return self._p("omega")
+
+    @property
+    def force(self):
+        """Total force on each particle (n, 3) (N) at the last step, incl. gravity."""
+        return self._p("force")
+
+    @property
+    def torque(self):
+        return self._p("torque")
+
+    @property
+    def radius(self):
+        return self._p("radius")
+
+    @property
+    def mass(self):
+        return self._p("mass")
+
+    @property
+    def T(self):
+        """Particle temperatures (n,), a view."""
+        return self._p("T")
+
+    @property
+    def ids(self):
+        return self._p("id")
+
+    @property
+    def type(self):
+        return self._p("type")
+
+    @property
+    def ncontact(self):
+        """Contacts per particle at the last step (n,)."""
+        return self._p("ncontact")
+
+    def index(self, ids):
+        """Rows of the given particle ids (ids are sorted ascending in the arrays)."""
+        ids = np.asarray(ids, np.int64)
+        rows = np.searchsorted(self.ids, ids)
+        rows = np.minimum(rows, max(self.n - 1, 0))
+        if self.n == 0 or (self.ids[rows] != ids).any():
+            raise GsiInputError(f"particle ids {ids[self.ids[rows] != ids][:5].tolist()}: not present (lost or never added)")
+        return rows
+
+    # ------------------------------------------------------------------ particles
+    def _material(self, name, key):
+        if name not in self._mat_index:
+            raise GsiInputError(f"{key} = {name!r}: unknown material, known: {self._mat_names}")
+        return self._mat_index[name]
+
+    def add_particles(self, x, radius, *, material, v=None, T=None, omega=None):
+        """Add spheres.
+
+        Parameters
+        ----------
+        x : array_like (k, 3)
+            Centres (m), inside the domain.
+        radius : float or array_like (k,)
+            Radii (m), > 0.
+        material : str
+            Material name.
+        v, omega : array_like (k, 3), optional
+            Velocities (m/s), angular velocities (rad/s); default 0.
+        T : float or array_like (k,), optional
+            Temperatures; default 0.
+
+        Returns
+        -------
+        numpy.ndarray of int64
+            The new particles' ids.
+        """
+        x = np.atleast_2d(np.asarray(x, float))
+        k = len(x)
+        if x.shape != (k, 3) or not np.isfinite(x).all():
+            raise GsiInputError(f"particles.x shape {x.shape}: must be (k, 3) finite (m)")
+        r = np.broadcast_to(np.asarray(radius, float), (k,)).copy()
+        if not (r > 0).all():
+            raise GsiInputError(f"particles.radius = {r[~(r > 0)][:3].tolist()}: must be > 0 (m)")
+        if ((x < self.lo) | (x > self.hi)).any():
+            raise GsiInputError("particles.x: some centres lie outside the domain box; enlarge domain or move them")
+        t = self._material(material, "particles.material")
+        mat = self.materials[material]
+        if self.n + k > self._cap:
+            self._alloc(max(2 * self._cap, self.n + k))
+        s = slice(self.n, self.n + k)
+        a = self._a
+        a["x"][s] = x
+        a["v"][s] = 0.0 if v is None else np.broadcast_to(np.asarray(v, float), (k, 3))
+        a["omega"][s] = 0.0 if omega is None else np.broadcast_to(np.asarray(omega, float), (k, 3))
+        a["force"][s] = 0.0
+        a["torque"][s] = 0.0
+        a["radius"][s] = r
+        m = mat.rho * 4.0 / 3.0 * math.pi * r ** 3
+        a["mass"][s] = m
+        a["inertia"][s] = 0.4 * m * r * r
+        a["T"][s] = 0.0 if T is None else np.broadcast_to(np.asarray(T, float), (k,))
+        a["mcp_inv"][s] = 1.0 / (m * mat.cp)
+        a["type"][s] = t
+        a["fixed"][s] = 0
+        a["x0"][s] = x
+        ids = np.arange(self._next_id, self._next_id + k, dtype=np.int64)
+        a["id"][s] = ids
+        for name in ("pl_hist", "pl_f", "pl_q", "pl_mask", "wc_n", "q", "ncontact"):
+            a[name][s] = 0
+        self._next_id += k
+        self.n += k
+        self._need_rebuild = True
+        self._forces_valid = False
+        self._dt_checked = False
+        return ids
+
+    def fix(self, ids, fixed=True):
+        """Hold particles in place (they still feel forces and exchange heat)."""
+        self._a["fixed"][self.index(ids)] = 1 if fixed else 0
+
+    def _delete(self, mask):
+        keep = ~mask
+        nk = int(keep.sum())
+        for name, arr in self._a.items():
+            arr[:nk] = arr[: self.n][keep]
+        self.n = nk
+        self._need_rebuild = True
+
+    # ------------------------------------------------------------------ walls
+    def _grow_planes(self):
+        old = {k: self._a[k] for k in ("pl_hist", "pl_f", "pl_q")}
+        self._npl += 1
+        for name in old:
+            trail, dtype = _FIELDS[name]
+            arr = np.zeros(self._shape(self._cap, trail), dtype)
+            arr[:, : self._npl - 1] = old[name]
+            self._a[name] = arr
+
+    def add_plane(self, point, normal, *, material, temperature=None, velocity=(0.0, 0.0, 0.0)):
+        """Add an infinite plane through ``point`` (m) with unit ``normal`` into the domain.
+
+        Returns
+        -------
+        PlaneWall
+        """
+        p = _vec3(point, "plane.point")
+        nrm = _vec3(normal, "plane.normal")
+        ln = np.linalg.norm(nrm)
+        if ln == 0:
+            raise GsiInputError(f"plane.normal = {normal}: must be non-zero")
+        t = self._material(material, "plane.material")
+        if self._npl >= 63:
+            raise GsiInputError("planes: at most 63 plane walls; use a mesh wall for more")
+        self._grow_planes()
+        self._pl_p = np.vstack([self._pl_p, p])
+        self._pl_n = np.vstack([self._pl_n, nrm / ln])
+        self._pl_v = np.vstack([self._pl_v, _vec3(velocity, "plane.velocity")])
+        self._pl_type = np.append(self._pl_type, np.int32(t)).astype(np.int32)
+        self._pl_T = np.append(self._pl_T, 0.0 if temperature is None else float(temperature))
+        self._pl_hasT = np.append(self._pl_hasT, np.uint8(temperature is not None)).astype(np.uint8)
+        self._pl_force = np.vstack([self._pl_force, np.zeros(3)])
+        self._pl_torque = np.vstack([self._pl_torque, np.zeros(3)])
+        self._pl_imp = np.vstack([self._pl_imp, np.zeros(3)])
+        self._pl_heat = np.append(self._pl_heat, 0.0)
+        wall = PlaneWall(self, len(self.planes), material)
+        self.planes.append(wall)
+        self._forces_valid = False
+        return wall
+
+    def _mesh_arrays(self, x, v, T, wall_of_v, tri, wall_of_t):
+        self._mv_x = np.ascontiguousarray(x, float)
+        self._mv_v = np.ascontiguousarray(v, float)
+        self._mv_T = np.ascontiguousarray(T, float)
+        self._mv_x0 = self._mv_x.copy()
+        self._mv_wall = np.ascontiguousarray(wall_of_v, np.int32)
+        self._mt = np.ascontiguousarray(tri, np.int32)
+        self._mt_wall = np.ascontiguousarray(wall_of_t, np.int32)
+        self._mt_edge = (triangle_edges(tri) if len(tri) else np.zeros((0, 3), np.int64))
+        self._mt_force = np.zeros((len(tri), 3))
+        self._mv_imp = np.zeros((len(x), 3))
+        self._mv_heat = np.zeros(len(x))
+
+    def add_mesh_wall(self, vertices, triangles=None, *, material=None, vertex_temperature=None):
+        """Add a triangle-mesh wall (arrays, or a :class:`MeshWall`).
+
+        Returns
+        -------
+        MeshWall
+        """
+        wall = vertices if isinstance(vertices, MeshWall) else MeshWall(
+            vertices, triangles, material=material, vertex_temperature=vertex_temperature)
+        t = self._material(wall.material, "mesh_wall.material")
+        if not self.mesh_walls:
+            self._S = MAX_WALL_SLOTS
+            for name in ("wc_tri", "wc_kind", "wc_fid", "wc_k", "wc_w", "wc_f", "wc_q", "wc_pt"):
+                trail, dtype = _FIELDS[name]
+                self._a[name] = np.zeros(self._shape(self._cap, trail), dtype)
+        v0, t0 = len(self._mv_x), len(self._mt)
+        widx = len(self.mesh_walls)
+        nv = wall.n_vertices
+        T = np.zeros(nv) if wall._T0 is None else np.broadcast_to(wall._T0, (nv,))
+        imp, heat = self._mv_imp, self._mv_heat
+        self._mesh_arrays(
+            np.vstack([self._mv_x, wall._x]), np.vstack([self._mv_v, np.zeros((nv, 3))]),
+            np.concatenate([self._mv_T, T]),
+            np.concatenate([self._mv_wall, np.full(nv, widx)]),
+            np.vstack([self._mt, wall._t + v0]),
+            np.concatenate([self._mt_wall, np.full(len(wall._t), widx)]))
+        self._mv_imp[:v0] = imp
+        self._mv_heat[:v0] = heat
+        self._mw_type = np.append(self._mw_type, np.int32(t)).astype(np.int32)
+        self._mw_hasT = np.append(self._mw_hasT, np.uint8(wall._T0 is not None)).astype(np.uint8)
+        self._mw_rigid = np.append(self._mw_rigid, np.uint8(0)).astype(np.uint8)
+        for name in ("_mw_vel", "_mw_omega", "_mw_centre", "_mw_force", "_mw_torque", "_mw_imp_p"):
+            setattr(self, name, np.vstack([getattr(self, name), np.zeros(3)]))
+        self._mw_heat_p = np.append(self._mw_heat_p, 0.0)
+        wall._attach(self, widx, v0, t0)
+        self.mesh_walls.append(wall)
+        self._need_rebuild = True
+        self._forces_valid = False
+        return wall
+
+    def add_mesh_wall_file(self, path, *, material, scale=1.0, vertex_temperature=None):
+        """Add a mesh wall read from a file with meshio (see :meth:`MeshWall.from_file`)."""
+        return self.add_mesh_wall(MeshWall.from_file(path, material=material, scale=scale,
+                                                     vertex_temperature=vertex_temperature))
+
+    def _wall_moved(self):
+        if len(self._mv_x):
+            d2 = ((self._mv_x - self._mv_x0) ** 2).sum(1).max()
+            if d2 > (0.5 * self.skin) ** 2:
+                self._need_rebuild = True
+        self._forces_valid = False
+
+    # ------------------------------------------------------------------ inserters
+    def add_inserter(self, region, rate, *, radius, material, velocity=(0.0, 0.0, 0.0),
+                     max_count=None, T=None, start=None):
+        """Continuous insertion (see :class:`gsi.dem.insertion.Inserter`)."""
+        from gsi.dem.insertion import Inserter
+        ins = Inserter(self, region, rate, radius=radius, material=material, velocity=velocity,
+                       max_count=max_count, T=T, start=self.time if start is None else start)
+        self.inserters.append(ins)
+        return ins
+
+    # ------------------------------------------------------------------ checks
+    def rayleigh_time(self):
+        """min over particles of the Rayleigh time t_R (s) (inf without particles)."""
+        tR = math.inf
+        for t in np.unique(self.type):
+            mat = self.materials[self._mat_names[t]]
+            tR = min(tR, rayleigh_time(self.radius[self.type == t].min(), mat))
+        return tR
+
+    def _check_dt(self):
+        if self.n == 0 or self._dt_checked:
+            return
+        self._dt_checked = True
+        if self.contact == "linear":
+            t_c = math.pi * math.sqrt(0.5 * self.mass.min() / self.k_n)
+            if self.dt > t_c / 10:
+                msg = (f"dt = {self.dt}: above t_c/10 = {t_c / 10:.3g} s of the linear law "
+                       f"(t_c = pi sqrt(m*/k_n), m* = m_min/2); reduce dt or pass force_dt=True")
+                if not self.force_dt:
+                    raise GsiInputError(msg)
+                warnings.warn(msg)
+            elif self.dt > t_c / 50:
+                warnings.warn(f"dt = {self.dt} s is above t_c/50 = {t_c / 50:.3g} s of the linear law")
+            return
+        tR = self.rayleigh_time()
+        if self.dt > tR:
+            msg = (f"dt = {self.dt}: above the Rayleigh time t_R = {tR:.3g} s; use dt <= "
+                   f"{0.3 * tR:.3g} s or pass force_dt=True")
+            if not self.force_dt:
+                raise GsiInputError(msg)
+            warnings.warn(msg)
+        elif self.dt > 0.3 * tR:
+            warnings.warn(f"dt = {self.dt} s is above 0.3 t_R = {0.3 * tR:.3g} s (Rayleigh time)")
+
+    def heat_stability(self):
+        """max_i dt sum_j H_ij/(m_i c_p,i): the explicit heat update is stable below 1."""
+        if self.heat is None or self.n == 0:
+            return 0.0
+        self._ensure_lists()
+        Hs = self.engine.heat_conductance_sum(*self._args())
+        return float((self.dt * Hs * self._p("mcp_inv")).max())
+
+    def _check_heat(self):
+        if self.heat is None:
+            return
+        ratio = self.heat_stability()
+        if ratio > 1.0 and not self.force_dt:
+            raise GsiRunError(
+                f"heat: dt sum H/(m c_p) = {ratio:.3g} > 1 at step {self.step_count}: the explicit "
+                "heat update is unstable; reduce dt, the conductivity, or pass force_dt=True")
+        if ratio > 0.5 and not self._heat_warned:
+            self._heat_warned = True
+            warnings.warn(f"heat: dt sum H/(m c_p) = {ratio:.3g} (stable below 1)")
+
+    # ------------------------------------------------------------------ neighbour lists
+    def _ensure_lists(self):
+        if self._need_rebuild or self._nb is None:
+            self._rebuild()
+
+    def _rebuild(self):
+        n = self.n
+        a = self._a
+        x = a["x"][:n]
+        r = a["radius"][:n]
+        rmax = float(r.max()) if n else 0.0
+        dims, inv_cs = nbr.grid_for(self.lo, self.hi, 2 * rmax + self.skin, n)
+        cell_of = np.empty(n, np.int64)
+        nbr.cell_index(n, x, self.lo, inv_cs, dims, cell_of)
+        cell_start, cell_list = nbr.bin_cells(n, cell_of, int(dims.prod()))
+        # slabs along the axis where the particles spread over most cells
+        spread = [np.ptp(np.floor((x[:, d] - self.lo[d]) * inv_cs[d])) if n else 0 for d in range(3)]
+        axis = int(np.argmax(spread))
+        slab_of, slab_start, slab_list = nbr.slab_sort(n, cell_of, cell_list, dims, axis)
+        counts = np.empty(n, np.int64)
+        nbr.count_pairs(n, x, r, self.skin, cell_of, slab_of, cell_start, cell_list, dims, counts)
+        nb_start = np.zeros(n + 1, np.int64)
+        np.cumsum(counts, out=nb_start[1:])
+        npair = int(nb_start[-1])
+        nb_j = np.empty(npair, np.int32)
+        nbr.fill_pairs(n, x, r, self.skin, cell_of, slab_of, cell_start, cell_list, dims,
+                       nb_start, nb_j)
+        hist = np.zeros((npair, 3))
+        pact = np.zeros(npair, np.uint8)
+        # new row -> old row through the (ascending) ids at the last build
+        ids = a["id"][:n]
+        if self._nb is not None:
+            old_ids = self._ids_at_build
+            pos = np.searchsorted(old_ids, ids)
+            pos = np.minimum(pos, max(len(old_ids) - 1, 0))
+            old_of_new = np.where((len(old_ids) > 0) & (old_ids[pos] == ids), pos, -1).astype(np.int64) \
+                if len(old_ids) else np.full(n, -1, np.int64)
+            o = self._nb
+            nbr.carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, o[2], o[3], o[4],
+                                   o[5])
+        else:
+            old_of_new = np.full(n, -1, np.int64)
+        self._nb = (slab_start, slab_list, nb_start, nb_j, hist, pact)
+        # triangle candidates
+        mc_start = np.zeros(n + 1, np.int64)
+        if len(self._mt):
+            tstart, tlist = nbr.bin_triangles(self._mv_x, self._mt, self.lo, inv_cs, dims,
+                                              rmax + self.skin)
+            dummy = np.zeros(0, np.int32)
+            nbr.tri_candidates(n, x, r, self.skin, cell_of, tstart, tlist, self._mv_x, self._mt,
+                               mc_start, dummy, True)
+            np.cumsum(mc_start[1:], out=mc_start[1:])
+            mc_tri = np.empty(int(mc_start[-1]), np.int32)
+            nbr.tri_candidates(n, x, r, self.skin, cell_of, tstart, tlist, self._mv_x, self._mt,
+                               mc_start, mc_tri, False)
+            mc_hist = np.zeros((len(mc_tri), 3))
+            if self._mc is not None:
+                o = self._mc
+                nbr.carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, o[0], o[1], o[2])
+            self._mv_x0[:] = self._mv_x
+        else:
+            mc_tri = np.zeros(0, np.int32)
+            mc_hist = np.zeros((0, 3))
+        self._mc = (mc_start, mc_tri, mc_hist)
+        a["x0"][:n] = x
+        self._ids_at_build = ids.copy()
+        self._need_rebuild = False
+        self.n_rebuilds += 1
+
+    def _args(self):
+        """The flat argument tuple of the engine kernels (views of the first n rows), in
+        the order :func:`gsi.dem.engine.advance` unpacks it."""
+        p = self._p
+        P = (p("x"), p("v"), p("omega"), p("force"), p("torque"), p("q"), p("radius"),
+             p("mass"), p("inertia"), p("T"), p("mcp_inv"), p("type"), p("fixed"),
+             p("ncontact"), p("x0"), self.table)
+        PL = (self._pl_p, self._pl_n, self._pl_v, self._pl_type, self._pl_T, self._pl_hasT,
+              p("pl_hist"), p("pl_f"), p("pl_q"), p("pl_mask"), self._pl_force,
+              self._pl_torque, self._pl_imp, self._pl_heat)
+        mc_start, mc_tri, mc_hist = self._mc
+        MW = (self._mv_x, self._mv_v, self._mv_T, self._mv_x0, self._mv_wall, self._mt,
+              self._mt_edge, self._mt_wall, self._mw_type, self._mw_hasT, self._mw_rigid,
+              self._mw_vel, self._mw_omega, self._mw_centre, mc_start, mc_tri, mc_hist,
+              p("wc_n"), p("wc_tri"), p("wc_kind"), p("wc_fid"), p("wc_k"), p("wc_w"),
+              p("wc_f"), p("wc_q"), p("wc_pt"), self._overflow, self._mw_force,
+              self._mw_torque, self._mt_force, self._mv_imp, self._mv_heat, self._mw_imp_p,
+              self._mw_heat_p)
+        return P + self._nb + PL + MW
+
+    # ------------------------------------------------------------------ stepping
+    def _prepare(self):
+        self._check_dt()
+        if self._need_rebuild or self._nb is None:
+            self._rebuild()
+            self._check_heat()
+        if not self._forces_valid:
+            self.engine.compute_forces(self.g, *self._args())
+            self._forces_valid = True
+
+    def step(self, n=1):
+        """Advance ``n`` time steps (inserters run at their due steps)."""
+        if n < 0:
+            raise GsiInputError(f"step n = {n}: must be >= 0")
+        threads = numba.get_num_threads()
+        if self.n < self.parallel_min_n:
+            numba.set_num_threads(1)
+        try:
+            self._step(n)
+        finally:
+            numba.set_num_threads(threads)
+
+    def _step(self, n):
+        remaining = int(n)
+        half_skin2 = (0.5 * self.skin) ** 2
+        vmax2 = self.v_max ** 2
+        skip = False
+        while remaining > 0:
+            if not skip:
+                for ins in self.inserters:
+                    ins.maybe_insert()
+            if self.n == 0 and not skip:
+                chunk = min([remaining] + [ins.steps_to_next() for ins in self.inserters])
+                self._advance_time(chunk)
+                remaining -= chunk
+                continue
+            if skip:
+                self._rebuild()
+                self._check_heat()
+            else:
+                self._prepare()
+            chunk = min([remaining] + [ins.steps_to_next() for ins in self.inserters])
+            done, code, info = self.engine.advance(chunk, skip, self.dt, self.g, half_skin2,
+                                                   vmax2, self.lo, self.hi, *self._args())
+            self._advance_time(done)
+            remaining -= done
+            skip = False
+            if code == 1:
+                skip = True
+            elif code == 2:
+                out = ((self.x < self.lo) | (self.x > self.hi)).any(1)
+                if self.lost == "error":
+                    i = int(np.flatnonzero(out)[0])
+                    raise GsiRunError(
+                        f"particle id {int(self.ids[i])} left the domain at step {self.step_count} "
+                        f"(x = {self.x[i].tolist()}); enlarge domain or add walls")
+                self.n_lost += int(out.sum())
+                self._delete(out)
+                skip = True
+            elif code == 3:
+                i = int(info)
+                raise GsiRunError(
+                    f"blow-up at step {self.step_count}: particle id {int(self.ids[i])} has "
+                    f"velocity {self.v[i].tolist()} m/s (NaN or above v_max = {self.v_max}); "
+                    f"likely cause: dt = {self.dt} s too large for the stiffness (Rayleigh time "
+                    f"{self.rayleigh_time():.3g} s) or overlapping initial particles")
+            if self._overflow[0]:
+                self._overflow[0] = 0
+                warnings.warn(f"more than {MAX_WALL_SLOTS} triangle contacts on one particle; extra ones ignored")
+
+    def _advance_time(self, k):
+        self.step_count += k
+        self.time = self.step_count * self.dt      # not accumulated: no drift
+
+    # ------------------------------------------------------------------ diagnostics
+    def kinetic_energy(self, *, rotational=True):
+        """Kinetic energy (J) of all particles: translation (+ rotation)."""
+        e = 0.5 * float((self.mass * (self.v ** 2).sum(1)).sum())
+        if rotational:
+            e += 0.5 * float((self._p("inertia") * (self.omega ** 2).sum(1)).sum())
+        return e
+
+    def potential_energy(self):
+        """Gravitational potential energy -sum m g.x (J) (zero at the origin)."""
+        return -float((self.mass * (self.x @ self.g)).sum())
+
+    def momentum(self):
+        """Total linear momentum (3,) (kg m/s)."""
+        return (self.mass[:, None] * self.v).sum(0)
+
+    def contact_count(self):
+        """Number of contacts at the last step (pairs once, plus wall contacts)."""
+        if self._nb is None:
+            return 0
+        pairs = int(self._nb[5].sum())
+        return pairs + int(self.ncontact.sum()) - 2 * pairs
+
+    def memory_bytes(self):
+        """Bytes of all per-particle storage incl. neighbour lists and history."""
+        b = sum(arr.nbytes for arr in self._a.values())
+        for group in (self._nb or ()), (self._mc or ()):
+            b += sum(arr.nbytes for arr in group)
+        return b

@@ -1,0 +1,283 @@
+"""Walls of the DEM: infinite planes and triangle meshes.
+
+Both kinds call the simulation's single contact law; only the geometry differs.
+
+Plane (:class:`PlaneWall`): a point and the unit normal pointing INTO the domain (where
+the particles are); optional translation velocity (m/s); scalar temperature (K or
+degC, as the particles) or None (adiabatic).
+
+Mesh (:class:`MeshWall`): vertices (nv, 3) and triangles (nt, 3).  A particle touches a
+triangle at its closest point (face, edge or vertex region).  Duplicate contacts on one
+smooth surface are removed per particle and wall: face contacts first; an edge or
+vertex contact is dropped when a face contact of a triangle containing that edge or
+vertex exists, or when the same edge/vertex (or the same point) already gave one.
+
+Motion: ``set_motion(velocity, omega, centre)`` makes a wall rigid: every step its
+vertices translate by velocity dt and rotate exactly by omega dt about the centre,
+and their velocity is v = velocity + omega x (x - centre).  ``set_vertices(x, v)``
+replaces positions and velocities (the coupling calls it every FE step); between
+calls the vertices move on with their velocities (x += v dt), so the DEM sees the wall
+move with the FE velocity.  The wall velocity at the contact point (barycentric mean
+of the vertex velocities) enters the relative velocity.
+
+Outputs after each step (the force BY the particles ON the wall):
+``force`` (3,) N, ``torque`` (3,) N m about ``centre`` (mesh; default origin) or the
+plane's point; mesh walls also ``triangle_force`` (nt, 3).  Accumulators (summed
+until ``reset_accumulators()``): ``vertex_impulse`` (nv, 3) N s = sum of
+-F_on_particle w_k dt, ``vertex_heat`` (nv,) J = sum of -Q_to_particle w_k dt,
+``impulse_on_particles`` (3,) N s, ``heat_to_particles`` J.  Thus
+vertex_impulse.sum(0) == -impulse_on_particles and vertex_heat.sum() ==
+-heat_to_particles to round-off.
+"""
+import numpy as np
+
+from gsi.errors import GsiInputError
+
+
+def _vec3(value, key):
+    a = np.asarray(value, float).reshape(-1)
+    if a.shape != (3,) or not np.isfinite(a).all():
+        raise GsiInputError(f"{key} = {value}: must be 3 finite numbers")
+    return a
+
+
+class PlaneWall:
+    """An infinite plane wall (see module docstring).  Made by ``Simulation.add_plane``."""
+
+    def __init__(self, sim, index, material):
+        self._sim = sim
+        self._p = index
+        self.material = material
+
+    @property
+    def point(self):
+        """A point of the plane (m), moves with the velocity."""
+        return self._sim._pl_p[self._p].copy()
+
+    @property
+    def normal(self):
+        """Unit normal into the domain."""
+        return self._sim._pl_n[self._p].copy()
+
+    @property
+    def velocity(self):
+        return self._sim._pl_v[self._p].copy()
+
+    def set_motion(self, velocity=(0.0, 0.0, 0.0)):
+        """Translate the plane with ``velocity`` (m/s)."""
+        self._sim._pl_v[self._p] = _vec3(velocity, "plane.velocity")
+
+    @property
+    def temperature(self):
+        """Wall temperature or None (adiabatic)."""
+        return float(self._sim._pl_T[self._p]) if self._sim._pl_hasT[self._p] else None
+
+    @temperature.setter
+    def temperature(self, value):
+        self._sim._pl_hasT[self._p] = value is not None
+        self._sim._pl_T[self._p] = 0.0 if value is None else float(value)
+
+    @property
+    def force(self):
+        """Force of the particles on the plane at the last step (N)."""
+        return self._sim._pl_force[self._p].copy()
+
+    @property
+    def torque(self):
+        """Torque of the particles on the plane about ``point`` at the last step (N m)."""
+        return self._sim._pl_torque[self._p].copy()
+
+    @property
+    def impulse_on_particles(self):
+        """Accumulated impulse of the plane on the particles (N s)."""
+        return self._sim._pl_imp[self._p].copy()
+
+    @property
+    def heat_to_particles(self):
+        """Accumulated heat from the plane into the particles (J)."""
+        return float(self._sim._pl_heat[self._p])
+
+    def reset_accumulators(self):
+        self._sim._pl_imp[self._p] = 0.0
+        self._sim._pl_heat[self._p] = 0.0
+
+
+class MeshWall:
+    """A triangle-mesh wall (see module docstring).
+
+    Parameters
+    ----------
+    vertices : array_like (nv, 3)
+        Vertex positions (m).
+    triangles : array_like (nt, 3)
+        Vertex indices of each triangle.
+    material : str
+        Material name (a key of the simulation's materials).
+    vertex_temperature : array_like (nv,), optional
+        Vertex temperatures; None = adiabatic.
+    """
+
+    def __init__(self, vertices, triangles, *, material, vertex_temperature=None):
+        self._x = np.array(vertices, float)
+        self._t = np.array(triangles, np.int64)
+        if self._x.ndim != 2 or self._x.shape[1] != 3 or not np.isfinite(self._x).all():
+            raise GsiInputError(f"mesh_wall.vertices shape {self._x.shape}: must be (nv, 3) finite (m)")
+        if (self._t.ndim != 2 or self._t.shape[1] != 3 or self._t.size == 0
+                or self._t.min() < 0 or self._t.max() >= len(self._x)):
+            raise GsiInputError(
+                f"mesh_wall.triangles shape {self._t.shape}: must be (nt, 3) vertex indices in [0, nv)")
+        self.material = material
+        self._T0 = None if vertex_temperature is None else np.asarray(vertex_temperature, float)
+        self._sim = None
+        self._w = None
+
+    @classmethod
+    def from_file(cls, path, *, material, scale=1.0, vertex_temperature=None):
+        """Read the triangles of a mesh file with meshio (STL, OBJ, VTU, gmsh ...).
+
+        ``scale`` multiplies the coordinates (e.g. 1e-3 for a file in mm).
+        """
+        import meshio
+        try:
+            m = meshio.read(path)
+        except Exception as exc:  # meshio raises many kinds
+            raise GsiInputError(f"mesh_wall.file = {path}: cannot read ({exc})") from None
+        tris = [c.data for c in m.cells if c.type == "triangle"]
+        if not tris:
+            raise GsiInputError(f"mesh_wall.file = {path}: holds no triangles")
+        t = np.concatenate(tris)
+        used, inv = np.unique(t, return_inverse=True)
+        x = np.asarray(m.points, float)[used] * scale
+        if x.shape[1] == 2:
+            x = np.column_stack([x, np.zeros(len(x))])
+        return cls(x, inv.reshape(-1, 3), material=material,
+                   vertex_temperature=vertex_temperature)
+
+    # ---- after the wall is added to a simulation, the data live in its global arrays
+    def _attach(self, sim, index, v0, t0):
+        self._sim = sim
+        self._w = index
+        self._v0, self._v1 = v0, v0 + len(self._x)
+        self._t0, self._t1 = t0, t0 + len(self._t)
+
+    def _vs(self):
+        return slice(self._v0, self._v1)
+
+    def _ts(self):
+        return slice(self._t0, self._t1)
+
+    @property
+    def n_vertices(self):
+        return len(self._x)
+
+    @property
+    def triangles(self):
+        return self._t.copy()
+
+    @property
+    def vertices(self):
+        """Current vertex positions (nv, 3) (m)."""
+        return self._sim._mv_x[self._vs()].copy() if self._sim else self._x.copy()
+
+    @property
+    def vertex_velocity(self):
+        return self._sim._mv_v[self._vs()].copy()
+
+    def set_vertices(self, x, v=None):
+        """Replace vertex positions (m) and velocities (m/s; None keeps the current ones)."""
+        s = self._sim
+        x = np.asarray(x, float)
+        if x.shape != (self.n_vertices, 3):
+            raise GsiInputError(f"wall.set_vertices x shape {x.shape}: must be ({self.n_vertices}, 3)")
+        s._mv_x[self._vs()] = x
+        if v is not None:
+            v = np.asarray(v, float)
+            if v.shape != x.shape:
+                raise GsiInputError(f"wall.set_vertices v shape {v.shape}: must be ({self.n_vertices}, 3)")
+            s._mv_v[self._vs()] = v
+        s._mw_rigid[self._w] = 0
+        s._wall_moved()
+
+    def set_motion(self, velocity=(0.0, 0.0, 0.0), omega=(0.0, 0.0, 0.0), centre=None):
+        """Rigid motion: translation ``velocity`` (m/s), rotation ``omega`` (rad/s) about
+        ``centre`` (m; default: the current centre, initially the origin)."""
+        s = self._sim
+        s._mw_vel[self._w] = _vec3(velocity, "wall.velocity")
+        s._mw_omega[self._w] = _vec3(omega, "wall.omega")
+        if centre is not None:
+            s._mw_centre[self._w] = _vec3(centre, "wall.centre")
+        s._mw_rigid[self._w] = 1
+        c = s._mw_centre[self._w]
+        r = s._mv_x[self._vs()] - c
+        s._mv_v[self._vs()] = s._mw_vel[self._w] + np.cross(s._mw_omega[self._w], r)
+
+    @property
+    def centre(self):
+        """Reference point of ``torque`` and of the rotation (m)."""
+        return self._sim._mw_centre[self._w].copy()
+
+    @property
+    def vertex_temperature(self):
+        s = self._sim
+        return s._mv_T[self._vs()].copy() if s._mw_hasT[self._w] else None
+
+    @vertex_temperature.setter
+    def vertex_temperature(self, value):
+        s = self._sim
+        if value is None:
+            s._mw_hasT[self._w] = 0
+            return
+        value = np.broadcast_to(np.asarray(value, float), (self.n_vertices,))
+        s._mv_T[self._vs()] = value
+        s._mw_hasT[self._w] = 1
+
+    @property
+    def force(self):
+        """Force of the particles on the wall at the last step (N)."""
+        return self._sim._mw_force[self._w].copy()
+
+    @property
+    def torque(self):
+        """Torque of the particles on the wall about ``centre`` at the last step (N m)."""
+        return self._sim._mw_torque[self._w].copy()
+
+    @property
+    def triangle_force(self):
+        """Force of the particles on each triangle at the last step (nt, 3) (N)."""
+        return self._sim._mt_force[self._ts()].copy()
+
+    @property
+    def vertex_impulse(self):
+        """Accumulated -F_on_particle w_k dt per vertex (nv, 3) (N s)."""
+        return self._sim._mv_imp[self._vs()].copy()
+
+    @property
+    def vertex_heat(self):
+        """Accumulated -Q_to_particle w_k dt per vertex (nv,) (J)."""
+        return self._sim._mv_heat[self._vs()].copy()
+
+    @property
+    def impulse_on_particles(self):
+        """Accumulated impulse of this wall on the particles (N s)."""
+        return self._sim._mw_imp_p[self._w].copy()
+
+    @property
+    def heat_to_particles(self):
+        """Accumulated heat from this wall into the particles (J)."""
+        return float(self._sim._mw_heat_p[self._w])
+
+    def reset_accumulators(self):
+        s = self._sim
+        s._mv_imp[self._vs()] = 0.0
+        s._mv_heat[self._vs()] = 0.0
+        s._mw_imp_p[self._w] = 0.0
+        s._mw_heat_p[self._w] = 0.0
+
+
+def triangle_edges(tri):
+    """Global edge ids (nt, 3) for edges ab, bc, ca of each triangle (shared edges share ids)."""
+    tri = np.asarray(tri, np.int64)
+    e = np.stack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]], axis=1).reshape(-1, 2)
+    e.sort(axis=1)
+    _, ids = np.unique(e, axis=0, return_inverse=True)
+    return ids.reshape(-1, 3).astype(np.int64)
