@@ -3,7 +3,7 @@
 PY      := .venv/bin/python
 MPIENV  := OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 OUT     ?= out
-DEMO    ?= pour
+DEMO    ?= hopper_membrane
 
 .PHONY: setup demo test test-slow bench clean
 

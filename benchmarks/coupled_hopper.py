@@ -14,6 +14,7 @@ transfer_share=...``.
 import argparse
 import dataclasses
 import pathlib
+import shutil
 import tempfile
 import time
 
@@ -33,10 +34,15 @@ def main():
     case = load_case(ROOT / "demos" / "hopper_membrane.toml")
     if args.steps_per_period:
         case.coupling = dataclasses.replace(case.coupling, steps_per_period=args.steps_per_period)
-    with tempfile.TemporaryDirectory() as tmp:
-        t0 = time.perf_counter()
-        r = run(case, out=pathlib.Path(tmp), quick=not args.full, verbose=False, pictures=False)
-        wall = time.perf_counter() - t0
+    comm = MPI.COMM_WORLD
+    tmp = tempfile.mkdtemp(prefix="gsi_coupled_hopper_") if comm.rank == 0 else None
+    tmp = pathlib.Path(comm.bcast(tmp, root=0))      # one output directory for all ranks
+    t0 = time.perf_counter()
+    r = run(case, out=tmp, quick=not args.full, verbose=False, pictures=False)
+    wall = time.perf_counter() - t0
+    comm.barrier()
+    if comm.rank == 0:
+        shutil.rmtree(tmp, ignore_errors=True)
     total = r.wall_dem + r.wall_fe + r.wall_transfer
     if MPI.COMM_WORLD.rank == 0:
         print(f"hopper_membrane {'full' if args.full else 'quick'} on {MPI.COMM_WORLD.size} "

@@ -5,7 +5,8 @@ its Table 3 (r = 10 mm, rho = 400 kg/m^3, E = 0.5 MPa, nu = 0.45, mu = 0.8, e = 
 a rolling resistance mu_r = 0.2 standing in for the angular shape of wood chips) rain
 into a closed conical hopper and settle on a slide gate under the outlet. The gate slides
 away at 0.6 s; the stream (about 1.3 kg/s) falls 0.285 m onto a clamped natural-rubber
-membrane (radius 0.3 m, 15 mm thick, E = 2 MPa, P2 tetrahedra, generalized-alpha with 5 %
+membrane (radius 0.3 m, 15 mm thick, E = 2 MPa, P2 tetrahedra, generalized-alpha with
+rho_inf = 0.3 against the step-to-step oscillation of staggered coupling, 5 %
 damping of its lowest mode, T_1 = 0.22 s). The membrane deflects under the impacts
 (about 3 cm under the full charge) while bending waves run through it, and the particles
 roll toward the deepest point and heap. ``--quick``: 400 spheres, 1.5 s.

@@ -18,6 +18,27 @@ if not os.environ.get("DISPLAY"):
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
 
+def _preload_vtk() -> bool:
+    """Import pyvista now if dolfinx is not loaded yet; True when that succeeded.
+
+    VTK's wheel and Debian's dolfinx bring different C++ runtimes: when dolfinx's extension
+    is loaded first, VTK's scalar bars abort the process (``std::bad_alloc`` in
+    ``std::regex``); with VTK loaded first both work. Drivers import this module before
+    dolfinx, so their pictures render in-process.
+    """
+    if "dolfinx" in sys.modules:
+        return False
+    try:
+        import pyvista  # noqa: F401
+    except Exception:
+        return False
+    return True
+
+
+#: True when VTK was loaded before dolfinx in this process (in-process rendering is safe)
+VTK_BEFORE_DOLFINX = _preload_vtk()
+
+
 def _pyvista():
     try:
         import pyvista as pv
@@ -110,16 +131,14 @@ def _render_jobs(jobs: list[dict]) -> list[str | None]:
 def render_snapshots(jobs: Sequence[dict]) -> list[pathlib.Path | None]:
     """Render many :func:`snapshot` jobs (keyword dicts); returns their PNG paths.
 
-    VTK's scalar bars abort the process (``std::bad_alloc`` in ``std::regex``) once
-    dolfinx's C++ extension has been loaded before VTK, as in every coupled run. When
-    dolfinx is loaded, the jobs are therefore rendered in a spawned interpreter that never
-    imports it; if that process fails, the pictures are skipped with a warning and the
-    run's data files are unaffected.
+    When dolfinx was loaded before VTK (see :func:`_preload_vtk`) the jobs are rendered in
+    a spawned interpreter that never imports dolfinx; if that process fails, the pictures
+    are skipped with a warning and the run's data files are unaffected.
     """
     jobs = list(jobs)
     if not jobs:
         return []
-    if "dolfinx" not in sys.modules:
+    if VTK_BEFORE_DOLFINX or "dolfinx" not in sys.modules:
         return [pathlib.Path(p) if p else None for p in _render_jobs(jobs)]
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor

@@ -228,8 +228,9 @@ class StructureSection:
     degree: int = param(2, check=one_of(1, 2), doc="Lagrange degree (P2: no bending locking)")
     scheme: str = param("generalized_alpha", check=one_of(*STRUCTURE_SCHEMES),
                         doc="static (quasi-static coupling), newmark or generalized_alpha")
-    rho_inf: float = param(0.8, unit="-", check=between(0.0, 1.0),
-                           doc="generalized-alpha spectral radius at infinite frequency")
+    rho_inf: float = param(0.3, unit="-", check=between(0.0, 1.0),
+                           doc="generalized-alpha spectral radius at infinite frequency "
+                               "(0.3 damps the step-to-step oscillation of staggered coupling)")
     rayleigh: Vec3 = param((0.0, 0.0), unit="1/s, s", length=2, check=nonnegative(),
                            doc="Rayleigh damping C = a0 M + a1 K: [a0, a1]")
     damping_ratio: Optional[float] = param(None, unit="-", check=between(0.0, 1.0),

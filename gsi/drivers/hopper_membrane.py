@@ -38,12 +38,11 @@ import csv
 import dataclasses
 import math
 import pathlib
-import sys
 import time
-import warnings
 
 import numpy as np
 
+from gsi import viz  # before dolfinx: pictures render in-process (gsi.viz._preload_vtk)
 from gsi.drivers.dem_setup import build_simulation, check_dt
 from gsi.errors import GsiInputError
 
@@ -144,29 +143,7 @@ def _quick_case(case, quick):
 
 
 # ----------------------------------------------------------------------------- pictures
-def _load_pyvista() -> bool:
-    """Import pyvista before dolfinx; True if pictures can be made in this process.
-
-    VTK's wheel and Debian's dolfinx bring different C++ runtimes: when dolfinx is loaded
-    first, VTK's scalar bars abort the process (std::regex bad_alloc). Loading pyvista
-    first avoids it; if dolfinx is already loaded (e.g. inside a test session), the
-    pictures are skipped with a warning instead of risking the abort.
-    """
-    if "pyvista" in sys.modules:
-        return True
-    if "dolfinx" in sys.modules:
-        warnings.warn("hopper_membrane: dolfinx was imported before pyvista; skipping the "
-                      "pictures (VTK would abort); run the demo in a fresh process")
-        return False
-    try:
-        import pyvista  # noqa: F401
-    except Exception:
-        return True     # gsi.viz warns and skips by itself
-    return True
-
-
 def _snapshot(path, sim, mem_x, mem_tri, u_mag, cone, gate, *, clim_u, clim_v, title):
-    from gsi import viz
     lo = mem_x.min(axis=0)
     hi = np.maximum(mem_x.max(axis=0), cone[0].max(axis=0))
     c = 0.5 * (lo + hi)
@@ -194,7 +171,7 @@ def run(case, *, out: pathlib.Path, quick: bool = False, verbose: bool = True,
     still written).
     """
     from mpi4py import MPI
-    pictures = pictures and MPI.COMM_WORLD.rank == 0 and _load_pyvista()
+    pictures = pictures and MPI.COMM_WORLD.rank == 0
 
     import meshes
     from gsi.coupling.staggered import StaggeredCoupling, choose_n_sub, lowest_period
@@ -332,7 +309,6 @@ def run(case, *, out: pathlib.Path, quick: bool = False, verbose: bool = True,
     info = None
     files = []
     if is_root:
-        from gsi import viz
         arr = np.asarray(rows, float)
         history = dict(t=arr[:, 0], load_z=arr[:, 1], max_deflection=arr[:, 2],
                        discharged_mass=arr[:, 3], n_particles=arr[:, 4])

@@ -15,6 +15,7 @@ import time
 
 import numpy as np
 
+from gsi import viz  # before dolfinx: pictures render in-process (gsi.viz._preload_vtk)
 from gsi.drivers.dem_setup import build_simulation, check_dt
 
 
@@ -50,7 +51,6 @@ def _box_of(case):
 
 def run(case, *, out: pathlib.Path, quick: bool = False, verbose: bool = True) -> PourResult:
     from gsi.dem.output import ParticleWriter
-    from gsi import viz
 
     sim = build_simulation(case)
     duration = (case.run.quick_duration or case.run.duration / 5) if quick else case.run.duration

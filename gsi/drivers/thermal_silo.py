@@ -35,6 +35,7 @@ import time
 
 import numpy as np
 
+from gsi import viz  # before dolfinx: pictures render in-process (gsi.viz._preload_vtk)
 from gsi.drivers.dem_setup import build_simulation, check_dt
 from gsi.errors import GsiInputError
 
@@ -274,7 +275,6 @@ def run(case, *, out: pathlib.Path, quick: bool = False, verbose: bool = True) -
     weight = wall_load = 0.0
     n_lost = 0
     if is_root:
-        from gsi import viz
         files.append(out / "particles.pvd")
         sr = np.asarray(stress_rows)
         files.append(viz.plot_series(out / "history.png", h["t_thermal"], {
