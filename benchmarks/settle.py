@@ -24,7 +24,10 @@ import sys
 import tempfile
 import time
 
-BENCH = "/work/shared/bench"
+#: the LIGGGHTS reference (input + runner), beside the project: ../shared/bench
+BENCH = os.environ.get("GSI_BENCH_DIR",
+                       os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                    "shared", "bench"))
 
 
 def lattice_positions(seed=15485863):

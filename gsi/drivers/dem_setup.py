@@ -6,6 +6,7 @@ Shared by every driver: the case's ``[dem]``, ``[materials.*]``, ``[[particles]]
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
@@ -50,6 +51,10 @@ def check_dt(case) -> float:
             raise GsiInputError(
                 f"run.dt = {dt:g}: must be <= the Rayleigh time {t_r:.3g} s of particles[{i}] "
                 f"(r = {p.size.smallest:g} m); use dt <= {0.2 * t_r:.3g} or set dem.force_dt = true")
+        if dt > 0.3 * t_r:
+            warnings.warn(f"run.dt = {dt:g} s is above 0.3 x the Rayleigh time {t_r:.3g} s of "
+                          f"particles[{i}]: contacts are resolved coarsely; "
+                          f"dt <= {0.2 * t_r:.3g} s is safe", stacklevel=2)
     return dt
 
 

@@ -5,34 +5,22 @@ displacement norms (static, dynamic) and temperature norm to 1e-8 relative (the 
 solver's round-off differs with the partition, nothing else does), the gathered surface
 fields, and the nodal loads scattered from rank 0 to the owning ranks and gathered back.
 """
-import json
-import os
-import shutil
-import subprocess
-import sys
+import importlib.util
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 HERE = Path(__file__).resolve().parent
-ROOT = HERE.parents[1]
+_spec = importlib.util.spec_from_file_location("gsi_tests_mpirun", HERE / "mpirun.py")
+mpirun = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(mpirun)
 
 pytestmark = pytest.mark.mpi
 
 
 def _run(n, tmp_path):
-    mpirun = shutil.which("mpirun")
-    if mpirun is None:
-        pytest.skip("mpirun not found")
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1",
-               PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
-    out = tmp_path / f"result_{n}.json"
-    cmd = [mpirun, "-n", str(n), sys.executable, str(HERE / "fem_mpi_case.py"), str(out)]
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-4000:]
-    return json.loads(out.read_text())
+    return mpirun.run_json(HERE / "fem_mpi_case.py", n, tmp_path / f"result_{n}.json")
 
 
 @pytest.fixture(scope="module")

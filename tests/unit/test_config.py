@@ -130,3 +130,19 @@ def test_cli_version_and_info():
     for name in ("dolfinx", "numba", "petsc4py", "gmsh", "pyvista", "MPI", "threads"):
         assert name in res.stdout
     assert "0.5.2" in res.stdout  # the dolfinx this was built and tested with
+
+
+def test_time_step_above_rayleigh_time_is_refused(tmp_path):
+    base = POUR.read_text()
+    case = tmp_path / "dt.toml"
+    case.write_text(base.replace("seed = 7", "seed = 7\ndt = 0.01"))
+    res = subprocess.run([sys.executable, "-m", "gsi.cli", "check", str(case)],
+                         capture_output=True, text=True)
+    assert res.returncode == 2
+    assert res.stderr.startswith("error: run.dt = 0.01: must be <= the Rayleigh time 0.00022 s")
+    assert "dem.force_dt = true" in res.stderr and res.stderr.count("\n") == 1
+    # between 0.3 t_R and t_R: accepted with a warning
+    case.write_text(base.replace("seed = 7", "seed = 7\ndt = 0.0001"))
+    res = subprocess.run([sys.executable, "-m", "gsi.cli", "check", str(case)],
+                         capture_output=True, text=True)
+    assert res.returncode == 0 and "0.3 x the Rayleigh time" in res.stderr
