@@ -14,6 +14,7 @@ DESIGN.md "DEM physics", for overlap delta > 0:
 import math
 
 from gsi.jit import njit
+from gsi.dem.contact.tangential import tangential_force
 from gsi.dem.materials import P_E, P_G, P_BETA, P_MU, P_ST_SN
 
 SQRT_5_6 = math.sqrt(5.0 / 6.0)
@@ -63,42 +64,9 @@ def hertz(nx, ny, nz, delta, vx, vy, vz, R_eff, m_eff, tab, row, hist, k, dt):
     vtx = vx - v_n * nx
     vty = vy - v_n * ny
     vtz = vz - v_n * nz
-    # rotate the spring into the current tangent plane, keeping its length
-    xx = hist[k, 0]
-    xy = hist[k, 1]
-    xz = hist[k, 2]
-    old2 = xx * xx + xy * xy + xz * xz
-    if old2 > 0.0:
-        xn = xx * nx + xy * ny + xz * nz
-        xx -= xn * nx
-        xy -= xn * ny
-        xz -= xn * nz
-        new2 = xx * xx + xy * xy + xz * xz
-        if new2 > 0.0:
-            s = math.sqrt(old2 / new2)
-            xx *= s
-            xy *= s
-            xz *= s
-    xx += vtx * dt
-    xy += vty * dt
-    xz += vtz * dt
+    # tangential: the shared history spring with Coulomb cap (contact/tangential.py)
     k_t = S_t
     gamma_t = gamma_n * tab[row, P_ST_SN]        # sqrt(S_t m*) = sqrt(S_n m*) sqrt(4 G*/E*)
-    ftx = -k_t * xx - gamma_t * vtx
-    fty = -k_t * xy - gamma_t * vty
-    ftz = -k_t * xz - gamma_t * vtz
-    ft = math.sqrt(ftx * ftx + fty * fty + ftz * ftz)
-    cap = mu * abs(F_n)
-    if ft > cap:
-        if ft > 0.0:
-            s = cap / ft
-            ftx *= s
-            fty *= s
-            ftz *= s
-        xx = -ftx / k_t
-        xy = -fty / k_t
-        xz = -ftz / k_t
-    hist[k, 0] = xx
-    hist[k, 1] = xy
-    hist[k, 2] = xz
+    ftx, fty, ftz = tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu,
+                                     hist, k, dt)
     return (-F_n * nx + ftx, -F_n * ny + fty, -F_n * nz + ftz, F_n)

@@ -13,6 +13,7 @@ restitution e through beta = ln(e)/sqrt(ln(e)^2 + pi^2):
 import math
 
 from gsi.jit import njit
+from gsi.dem.contact.tangential import tangential_force
 from gsi.dem.materials import P_BETA, P_MU, P_KN
 
 K_T_OVER_K_N = 2.0 / 7.0
@@ -33,41 +34,8 @@ def linear(nx, ny, nz, delta, vx, vy, vz, R_eff, m_eff, tab, row, hist, k, dt):
     vtx = vx - v_n * nx
     vty = vy - v_n * ny
     vtz = vz - v_n * nz
-    xx = hist[k, 0]
-    xy = hist[k, 1]
-    xz = hist[k, 2]
-    old2 = xx * xx + xy * xy + xz * xz
-    if old2 > 0.0:
-        xn = xx * nx + xy * ny + xz * nz
-        xx -= xn * nx
-        xy -= xn * ny
-        xz -= xn * nz
-        new2 = xx * xx + xy * xy + xz * xz
-        if new2 > 0.0:
-            s = math.sqrt(old2 / new2)
-            xx *= s
-            xy *= s
-            xz *= s
-    xx += vtx * dt
-    xy += vty * dt
-    xz += vtz * dt
     k_t = K_T_OVER_K_N * k_n
     gamma_t = -2.0 * beta * math.sqrt(k_t * m_eff)
-    ftx = -k_t * xx - gamma_t * vtx
-    fty = -k_t * xy - gamma_t * vty
-    ftz = -k_t * xz - gamma_t * vtz
-    ft = math.sqrt(ftx * ftx + fty * fty + ftz * ftz)
-    cap = mu * abs(F_n)
-    if ft > cap:
-        if ft > 0.0:
-            s = cap / ft
-            ftx *= s
-            fty *= s
-            ftz *= s
-        xx = -ftx / k_t
-        xy = -fty / k_t
-        xz = -ftz / k_t
-    hist[k, 0] = xx
-    hist[k, 1] = xy
-    hist[k, 2] = xz
+    ftx, fty, ftz = tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu,
+                                     hist, k, dt)
     return (-F_n * nx + ftx, -F_n * ny + fty, -F_n * nz + ftz, F_n)

@@ -1,0 +1,69 @@
+"""Tangential history spring with Coulomb cap, shared by the contact laws.
+
+DESIGN.md "DEM physics": the spring xi (m) of a contact is rotated into the current tangent
+plane (its normal part removed, its length kept), then xi += v_t dt; the force is
+F_t = -k_t xi - gamma_t v_t, capped at mu |F_n|; on the cap xi = -F_t / k_t, so that the
+spring alone gives the capped force. The laws differ only in k_t and gamma_t.
+"""
+import math
+
+from gsi.jit import njit
+
+
+@njit(inline="always")
+def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, hist, k, dt):
+    """Tangential force on particle i (N); updates the spring ``hist[k]`` in place.
+
+    Parameters
+    ----------
+    nx, ny, nz : float
+        Unit contact normal (-).
+    vtx, vty, vtz : float
+        Tangential relative velocity at the contact point (m/s).
+    F_n : float
+        Normal force (N), for the Coulomb cap mu |F_n|.
+    k_t, gamma_t : float
+        Tangential stiffness (N/m) and damping coefficient (N s/m, <= 0 as beta).
+    mu : float
+        Friction coefficient (-).
+    hist : ndarray (m, 3)
+        Tangential springs (m); row ``k`` is read and written.
+    dt : float
+        Time step (s).
+    """
+    xx = hist[k, 0]
+    xy = hist[k, 1]
+    xz = hist[k, 2]
+    old2 = xx * xx + xy * xy + xz * xz
+    if old2 > 0.0:
+        xn = xx * nx + xy * ny + xz * nz
+        xx -= xn * nx
+        xy -= xn * ny
+        xz -= xn * nz
+        new2 = xx * xx + xy * xy + xz * xz
+        if new2 > 0.0:
+            s = math.sqrt(old2 / new2)
+            xx *= s
+            xy *= s
+            xz *= s
+    xx += vtx * dt
+    xy += vty * dt
+    xz += vtz * dt
+    ftx = -k_t * xx - gamma_t * vtx
+    fty = -k_t * xy - gamma_t * vty
+    ftz = -k_t * xz - gamma_t * vtz
+    ft = math.sqrt(ftx * ftx + fty * fty + ftz * ftz)
+    cap = mu * abs(F_n)
+    if ft > cap:
+        if ft > 0.0:
+            s = cap / ft
+            ftx *= s
+            fty *= s
+            ftz *= s
+        xx = -ftx / k_t
+        xy = -fty / k_t
+        xz = -ftz / k_t
+    hist[k, 0] = xx
+    hist[k, 1] = xy
+    hist[k, 2] = xz
+    return ftx, fty, ftz
