@@ -58,7 +58,6 @@ BAD = [
     ("particles.0.size.max", 0.001,
      "particles[0].size.max = 0.001: must be >= particles[0].size.min = 0.0018 (m)"),
     ("materials.glass.e", 1.5, "materials.glass.e = 1.5: must be in (0.0, 1.0] (-)"),
-    ("run.dt", _DELETE, None),  # dt is optional: removing it is fine
     ("run.duration", _DELETE, "run.duration: missing; give simulated time (s)"),
     ("dem.rolling", "yes", "dem.rolling = 'yes': must be true or false"),
 ]
@@ -66,9 +65,6 @@ BAD = [
 
 @pytest.mark.parametrize("key,value,message", BAD, ids=[b[0] for b in BAD])
 def test_bad_input_message(table, key, value, message):
-    if key == "run.dt":
-        case_from_table(_set(table, key, value) if "dt" in table["run"] else table)
-        return
     bad = _set(table, key, value)
     with pytest.raises(GsiInputError) as err:
         case_from_table(bad)
