@@ -1,8 +1,8 @@
 """DEM <-> FE coupling: the contact surface as a DEM wall, load transfer, staggered drivers.
 
 * :class:`~gsi.coupling.interface.SurfaceInterface` -- the tagged FE surface as DEM wall
-  triangles (P1, or P2 split at its edge midpoints), gathered positions/velocities and
-  scattered nodal loads.
+  triangles (P1, or P2 split at its edge midpoints, loads by the P2 basis of the parent
+  face), gathered positions/velocities and scattered nodal loads.
 * :class:`~gsi.coupling.staggered.StaggeredCoupling` -- forces and motion, one FE step per
   n_sub DEM steps, with the per-step load balance and work record;
   :func:`~gsi.coupling.staggered.lowest_period`, :func:`~gsi.coupling.staggered.choose_n_sub`.

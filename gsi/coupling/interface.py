@@ -14,17 +14,17 @@ FE step dt_FE, the nodal force is P_k = vertex_impulse_k / dt_FE (N).
 
 * **P1** (``degree = 1``): the wall is the surface triangles themselves; w_k are the P1
   basis functions at p, so P_k is exactly the consistent nodal load of the point force.
-* **P2** (``degree = 2``): the DEM's vertex accumulators cannot give the P2 basis at p
-  (that needs the second moments w_k w_l of every contact). The wall is instead each
-  surface triangle split into four at its edge midpoints -- the P2 nodes of the face --
-  so every P2 surface node is a wall vertex and its load is w_k of the *refined* triangle
-  (the piecewise-linear "P1-iso-P2" hat functions). This is not the P2-consistent load of
-  a point force, but it has the same resultant and the same moment about any point
-  (both weight sets are a partition of unity reproducing linear fields), so the total
-  force and the balance are exact; only the split among neighbouring nodes differs. The
-  wall also follows the P2 displacement at the midpoints (the deformed surface seen by the
-  DEM is the piecewise-linear interpolant through all P2 nodes). The mid-edge nodes are
-  found by coordinates: this needs straight-sided (geometry order 1) meshes.
+* **P2** (``degree = 2``): the wall is each surface triangle split into four at its edge
+  midpoints -- the P2 nodes of the face -- so every P2 surface node is a wall vertex, and
+  the deformed surface the DEM sees is the piecewise-linear interpolant through all P2
+  nodes. Each sub-triangle carries its six-node parent face (``parent_nodes``: a, b, c,
+  ab, bc, ca) and its vertices' barycentric coordinates in the parent
+  (``parent_coords``); the DEM maps a contact's weights to parent coordinates l and puts
+  the impulse on the six parent nodes with the P2 basis values l_a(2 l_a - 1), ...,
+  4 l_a l_b, ... (:func:`gsi.dem.engine.mesh_scatter`). So P_k is exactly the
+  consistent P2 nodal load of the point force: sum_k P_k . u_k = F . u(p) for every
+  P2 field u. (The vertex weights are negative for l < 1/2, as P2's are.) The mid-edge
+  nodes are found by coordinates: this needs straight-sided (geometry order 1) meshes.
 
 Node order (the wall's vertex order): the ContactSurface vertices (sorted global vertex
 id), then the edge midpoints sorted by their (sorted) pair of global vertex ids; it does
@@ -100,6 +100,13 @@ class SurfaceInterface:
         self.triangles = np.concatenate([
             np.c_[a, ab, ca], np.c_[ab, b, bc], np.c_[ca, bc, c], np.c_[ab, bc, ca]]
         ).astype(np.int64)
+        # each sub-triangle's six-node parent face and its vertices' parent coordinates
+        nt = len(tri)
+        self.parent_nodes = np.tile(np.c_[a, b, c, ab, bc, ca], (4, 1)).astype(np.int64)
+        A, B, C = np.eye(3)
+        AB, BC, CA = 0.5 * (A + B), 0.5 * (B + C), 0.5 * (C + A)
+        sub = np.array([[A, AB, CA], [AB, B, BC], [CA, BC, C], [AB, BC, CA]])
+        self.parent_coords = np.repeat(sub, nt, axis=0)
         x_mid = 0.5 * (s.x0[edges[:, 0]] + s.x0[edges[:, 1]])
         self.x0 = np.vstack([s.x0, x_mid])
         self.n_midpoints = ne
@@ -185,4 +192,9 @@ class SurfaceInterface:
         if material not in sim.materials:
             raise GsiInputError(f"coupling.wall_material = {material!r}: not a DEM material; "
                                 f"known: {sorted(sim.materials)}")
-        return sim.add_mesh_wall(self.x0.copy(), self.triangles, material=material)
+        if self._mid is None:
+            return sim.add_mesh_wall(self.x0.copy(), self.triangles, material=material)
+        from gsi.dem.walls import MeshWall
+        return sim.add_mesh_wall(MeshWall(self.x0.copy(), self.triangles, material=material,
+                                          parent_nodes=self.parent_nodes,
+                                          parent_coords=self.parent_coords))

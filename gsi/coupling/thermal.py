@@ -7,9 +7,10 @@ dt_FE = n_sub dt_DEM:
    surface, :class:`gsi.fem.surface.ContactSurface`) takes the FE temperature at the surface
    vertices (``wall.vertex_temperature``); the DEM interpolates it at each contact point
    with the barycentric weights, T_w = sum_k w_k T_k. (A P2 mechanical interface splits
-   each triangle at its edge midpoints; a midpoint takes the mean of its edge's end
-   temperatures and hands half of its heat to each end, so the wall temperature is the
-   P1 field of the FE triangle and the heat split its P1 nodal load.)
+   each triangle at its edge midpoints and weights heat by the P2 basis of the parent
+   face; a midpoint takes the mean of its edge's end temperatures and hands half of its
+   heat to each end, so the wall temperature is the P1 field of the FE triangle and the
+   heat its P1-consistent nodal load: l_a(2 l_a - 1) + (4 l_a l_b + 4 l_c l_a)/2 = l_a.)
 2. The DEM runs n_sub steps. Each particle-wall contact conducts
    Q = H (T_w - T_i) into the particle, with the DEM's conductance model and the wall
    material's conductivity (H = 4 k_i k_w/(k_i + k_w) sqrt(pi a^2) for ``area``, ...),

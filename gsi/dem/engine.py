@@ -546,13 +546,33 @@ def plane_reduce(n, dt, x, pl_p, pl_n, pl_f, pl_q, pl_mask, pl_force, pl_torque,
             pl_heat[p] += pl_q[i, p] * dt
 
 
+@njit(inline="always")
+def _p2_weight(j, la, lb, lc):
+    """P2 basis function j of a six-node triangle (vertices a, b, c, then midpoints ab,
+    bc, ca) at barycentric coordinates (la, lb, lc)."""
+    if j == 0:
+        return la * (2.0 * la - 1.0)
+    if j == 1:
+        return lb * (2.0 * lb - 1.0)
+    if j == 2:
+        return lc * (2.0 * lc - 1.0)
+    if j == 3:
+        return 4.0 * la * lb
+    if j == 4:
+        return 4.0 * lb * lc
+    return 4.0 * lc * la
+
+
 @njit
 def mesh_scatter(n, dt, wc_n, wc_tri, wc_w, wc_f, wc_q, wc_pt, mt, mt_wall, mw_centre,
-                 mw_force, mw_torque, mt_force, mv_imp, mv_heat, mw_imp_p, mw_heat_p):
+                 mw_force, mw_torque, mt_force, mv_imp, mv_heat, mw_imp_p, mw_heat_p,
+                 mt_p6, mt_lam):
     """Serial scatter of triangle contacts: wall force/torque (about ``mw_centre``) and
     triangle forces ON the wall (this step), and the coupling accumulators
-    vertex_impulse += -F w_k dt, vertex_heat += -Q w_k dt, impulse_on_particles += F dt,
-    heat_to_particles += Q dt."""
+    vertex_impulse += -F N_k dt, vertex_heat += -Q N_k dt, impulse_on_particles += F dt,
+    heat_to_particles += Q dt.  N_k are the barycentric weights w_k of the contact point,
+    or, for a triangle with a quadratic parent (``mt_p6[t, 0] >= 0``), the six P2 basis
+    values at the point's parent coordinates l = sum_k w_k mt_lam[t, k]."""
     mw_force[:] = 0.0
     mw_torque[:] = 0.0
     mt_force[:] = 0.0
@@ -576,13 +596,30 @@ def mesh_scatter(n, dt, wc_n, wc_tri, wc_w, wc_f, wc_q, wc_pt, mt, mt_wall, mw_c
             mw_torque[wl, 0] -= ry * Fz - rz * Fy
             mw_torque[wl, 1] -= rz * Fx - rx * Fz
             mw_torque[wl, 2] -= rx * Fy - ry * Fx
-            for c in range(3):
-                a = mt[t, c]
-                wk = wc_w[i, s, c]
-                mv_imp[a, 0] -= Fx * wk * dt
-                mv_imp[a, 1] -= Fy * wk * dt
-                mv_imp[a, 2] -= Fz * wk * dt
-                mv_heat[a] -= Q * wk * dt
+            if mt_p6[t, 0] < 0:
+                for c in range(3):
+                    a = mt[t, c]
+                    wk = wc_w[i, s, c]
+                    mv_imp[a, 0] -= Fx * wk * dt
+                    mv_imp[a, 1] -= Fy * wk * dt
+                    mv_imp[a, 2] -= Fz * wk * dt
+                    mv_heat[a] -= Q * wk * dt
+            else:
+                la = 0.0
+                lb = 0.0
+                lc = 0.0
+                for c in range(3):
+                    wk = wc_w[i, s, c]
+                    la += wk * mt_lam[t, c, 0]
+                    lb += wk * mt_lam[t, c, 1]
+                    lc += wk * mt_lam[t, c, 2]
+                for j in range(6):
+                    a = mt_p6[t, j]
+                    wk = _p2_weight(j, la, lb, lc)
+                    mv_imp[a, 0] -= Fx * wk * dt
+                    mv_imp[a, 1] -= Fy * wk * dt
+                    mv_imp[a, 2] -= Fz * wk * dt
+                    mv_heat[a] -= Q * wk * dt
             mw_imp_p[wl, 0] += Fx * dt
             mw_imp_p[wl, 1] += Fy * dt
             mw_imp_p[wl, 2] += Fz * dt
@@ -609,7 +646,7 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, *arrays)
      mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
      mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
      wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
-     mv_imp, mv_heat, mw_imp_p, mw_heat_p) = arrays
+     mv_imp, mv_heat, mw_imp_p, mw_heat_p, mt_p6, mt_lam) = arrays
     n = x.shape[0]
     half_dt = 0.5 * dt
     npl = pl_p.shape[0]
@@ -642,7 +679,7 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, *arrays)
         if nv > 0:
             mesh_scatter(n, dt, wc_n, wc_tri, wc_w, wc_f, wc_q, wc_pt, mt, mt_wall,
                          mw_centre, mw_force, mw_torque, mt_force, mv_imp, mv_heat,
-                         mw_imp_p, mw_heat_p)
+                         mw_imp_p, mw_heat_p, mt_p6, mt_lam)
     return nsteps, 0, 0
 
 
@@ -658,7 +695,7 @@ def compute_forces(g, *arrays):
      mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
      mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
      wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
-     mv_imp, mv_heat, mw_imp_p, mw_heat_p) = arrays
+     mv_imp, mv_heat, mw_imp_p, mw_heat_p, mt_p6, mt_lam) = arrays
     n = x.shape[0]
     clear_forces(n, g[0], g[1], g[2], mass, f, tq, q, ncontact)
     contact_forces(n, 0.0, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
@@ -681,7 +718,7 @@ def heat_conductance_sum(*arrays):
      mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
      mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
      wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
-     mv_imp, mv_heat, mw_imp_p, mw_heat_p) = arrays
+     mv_imp, mv_heat, mw_imp_p, mw_heat_p, mt_p6, mt_lam) = arrays
     n = x.shape[0]
     nt = table.shape[0]
     tab = table.reshape((nt * nt, table.shape[2]))

@@ -191,7 +191,8 @@ class Simulation:
         # meshes
         self.mesh_walls = []
         self._mesh_arrays(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int32),
-                          np.zeros((0, 3), np.int32), np.zeros(0, np.int32))
+                          np.zeros((0, 3), np.int32), np.zeros(0, np.int32),
+                          np.zeros((0, 6), np.int32), np.zeros((0, 3, 3)))
         self._mw_type = np.zeros(0, np.int32)
         self._mw_hasT = np.zeros(0, np.uint8)
         self._mw_rigid = np.zeros(0, np.uint8)
@@ -411,7 +412,7 @@ class Simulation:
         self._forces_valid = False
         return wall
 
-    def _mesh_arrays(self, x, v, T, wall_of_v, tri, wall_of_t):
+    def _mesh_arrays(self, x, v, T, wall_of_v, tri, wall_of_t, p6, lam):
         self._mv_x = np.ascontiguousarray(x, float)
         self._mv_v = np.ascontiguousarray(v, float)
         self._mv_T = np.ascontiguousarray(T, float)
@@ -420,6 +421,8 @@ class Simulation:
         self._mt = np.ascontiguousarray(tri, np.int32)
         self._mt_wall = np.ascontiguousarray(wall_of_t, np.int32)
         self._mt_edge = (triangle_edges(tri) if len(tri) else np.zeros((0, 3), np.int64))
+        self._mt_p6 = np.ascontiguousarray(p6, np.int32)
+        self._mt_lam = np.ascontiguousarray(lam, float)
         self._mt_force = np.zeros((len(tri), 3))
         self._mv_imp = np.zeros((len(x), 3))
         self._mv_heat = np.zeros(len(x))
@@ -449,7 +452,9 @@ class Simulation:
             np.concatenate([self._mv_T, T]),
             np.concatenate([self._mv_wall, np.full(nv, widx)]),
             np.vstack([self._mt, wall._t + v0]),
-            np.concatenate([self._mt_wall, np.full(len(wall._t), widx)]))
+            np.concatenate([self._mt_wall, np.full(len(wall._t), widx)]),
+            np.vstack([self._mt_p6, np.where(wall._p6 >= 0, wall._p6 + v0, -1)]),
+            np.concatenate([self._mt_lam, wall._lam]))
         self._mv_imp[:v0] = imp
         self._mv_heat[:v0] = heat
         self._mw_type = np.append(self._mw_type, np.int32(t)).astype(np.int32)
@@ -626,7 +631,7 @@ class Simulation:
               p("wc_n"), p("wc_tri"), p("wc_kind"), p("wc_fid"), p("wc_k"), p("wc_w"),
               p("wc_f"), p("wc_q"), p("wc_pt"), self._overflow, self._mw_force,
               self._mw_torque, self._mt_force, self._mv_imp, self._mv_heat, self._mw_imp_p,
-              self._mw_heat_p)
+              self._mw_heat_p, self._mt_p6, self._mt_lam)
         return P + self._nb + PL + MW
 
     # ------------------------------------------------------------------ stepping

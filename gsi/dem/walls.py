@@ -115,9 +115,20 @@ class MeshWall:
         Material name (a key of the simulation's materials).
     vertex_temperature : array_like (nv,), optional
         Vertex temperatures; None = adiabatic.
+    parent_nodes, parent_coords : array_like (nt, 6) int and (nt, 3, 3), optional
+        Quadratic load weights (the P2 coupling): triangle t is part of a six-node
+        parent triangle with vertex nodes a, b, c and edge-midpoint nodes ab, bc, ca
+        (``parent_nodes[t]``, wall vertex indices); ``parent_coords[t, k]`` are the
+        barycentric coordinates (l_a, l_b, l_c) in the parent of the triangle's
+        vertex k.  A contact at weights w of triangle t has parent coordinates
+        l = sum_k w_k parent_coords[t, k], and its impulse and heat go to the six parent
+        nodes with the P2 basis values l_a(2 l_a - 1), ..., 4 l_a l_b, 4 l_b l_c,
+        4 l_c l_a instead of w.  A row of -1 in ``parent_nodes`` keeps the linear
+        weights for that triangle.
     """
 
-    def __init__(self, vertices, triangles, *, material, vertex_temperature=None):
+    def __init__(self, vertices, triangles, *, material, vertex_temperature=None,
+                 parent_nodes=None, parent_coords=None):
         self._x = np.array(vertices, float)
         self._t = np.array(triangles, np.int64)
         if self._x.ndim != 2 or self._x.shape[1] != 3 or not np.isfinite(self._x).all():
@@ -126,6 +137,8 @@ class MeshWall:
                 or self._t.min() < 0 or self._t.max() >= len(self._x)):
             raise GsiInputError(
                 f"mesh_wall.triangles shape {self._t.shape}: must be (nt, 3) vertex indices in [0, nv)")
+        self._p6, self._lam = _parent_map(parent_nodes, parent_coords, len(self._t),
+                                          len(self._x))
         self.material = material
         self._T0 = None if vertex_temperature is None else np.asarray(vertex_temperature, float)
         self._sim = None
@@ -272,6 +285,29 @@ class MeshWall:
         s._mv_heat[self._vs()] = 0.0
         s._mw_imp_p[self._w] = 0.0
         s._mw_heat_p[self._w] = 0.0
+
+
+def _parent_map(nodes, coords, nt, nv):
+    """Checked (nt, 6) int32 parent nodes (-1: linear weights) and (nt, 3, 3) coordinates."""
+    if nodes is None and coords is None:
+        return np.full((nt, 6), -1, np.int32), np.zeros((nt, 3, 3))
+    if nodes is None or coords is None:
+        raise GsiInputError("mesh_wall.parent_nodes and parent_coords: give both or neither")
+    p6 = np.array(nodes, np.int64)
+    lam = np.array(coords, float)
+    if p6.shape != (nt, 6) or lam.shape != (nt, 3, 3):
+        raise GsiInputError(f"mesh_wall.parent_nodes shape {p6.shape} / parent_coords shape "
+                            f"{lam.shape}: must be ({nt}, 6) and ({nt}, 3, 3)")
+    quad = p6[:, 0] >= 0
+    if np.any(p6[quad] < 0) or np.any(p6 >= nv) or np.any(p6[~quad] != -1):
+        raise GsiInputError(f"mesh_wall.parent_nodes: must be vertex indices in [0, {nv}) "
+                            "(or a whole row of -1)")
+    lq = lam[quad]
+    if (not np.isfinite(lq).all() or np.any(lq < -1e-12) or np.any(lq > 1 + 1e-12)
+            or not np.allclose(lq.sum(axis=2), 1.0, atol=1e-12, rtol=0.0)):
+        raise GsiInputError("mesh_wall.parent_coords: each row must be barycentric "
+                            "coordinates in [0, 1] summing to 1")
+    return p6.astype(np.int32), lam
 
 
 def triangle_edges(tri):

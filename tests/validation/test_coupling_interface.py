@@ -7,7 +7,9 @@
   it reaches the structure with the same resultant and the same moment (P1: the
   consistent load; P2: the refined-triangle weights, a partition of unity that
   reproduces linear fields).
-* DEM contact: a sphere resting on the wall pushes the FE with exactly -F.
+* DEM contact: a sphere resting on the wall pushes the FE with exactly -F, and the load
+  vector b the FE holds is the consistent one: b . u_h = -F . u(p) for every field u_h of
+  the space (P1: linear, P2: quadratic fields), p the contact point.
 """
 import numpy as np
 import pytest
@@ -104,6 +106,36 @@ def test_sphere_on_the_wall_loads_the_structure_with_minus_its_contact_force(int
     F_p = wall.impulse_on_particles / (50 * sim.dt)
     assert F_p[2] > 0
     assert el.load_sum() == pytest.approx(-F_p, rel=1e-12, abs=1e-15 * abs(F_p[2]))
+    el.clear_nodal_loads()
+
+
+def test_sphere_load_is_the_consistent_nodal_load_of_the_space(interface):
+    """b . u_h = -F . u(p): P1 for a linear u, P2 for a quadratic u (exact in the space).
+    The P1-iso-P2 hat weights of the refined wall (before the P2 parent map) missed
+    the quadratic case by 0.45 %."""
+    from gsi.dem import Material, Simulation
+    from gsi.fem import compat
+    itf = interface
+    el = itf.elasticity
+    if el.degree == 2:
+        f = lambda x: np.vstack([x[0] ** 2 - x[1], 3 * x[0] * x[1] + x[2], x[1] ** 2 + 2 * x[0]])
+    else:
+        f = lambda x: np.vstack([x[0] - x[1], 3 * x[0] + x[2], 2 * x[1] + 1.0])
+    wood = Material(E=5e5, nu=0.45, rho=400.0, e=0.5, mu=0.8)
+    sim = Simulation({"wood": wood}, dt=2e-4, skin=4e-3, domain=((-0.4,) * 3, (0.4,) * 3))
+    wall = itf.make_wall(sim, material="wood")
+    p = np.array([0.0137, -0.0213, 0.01])
+    sim.fix(sim.add_particles([p + [0, 0, 0.0099]], 0.01, material="wood"))
+    sim.step(20)
+    T = 20 * sim.dt
+    el.clear_nodal_loads()
+    itf.add_nodal_loads(wall.vertex_impulse / T)
+    F = -wall.impulse_on_particles / T              # on the structure
+    el.u.interpolate(f)
+    imap, bs = compat.dof_index_map(el.V)
+    work = el.comm.allreduce(float(el.u.x.array[: imap.size_local * bs] @ el.nodal.values))
+    assert work == pytest.approx(float(F @ f(p[:, None])[:, 0]), rel=1e-12)
+    el.u.x.array[:] = 0.0
     el.clear_nodal_loads()
 
 
