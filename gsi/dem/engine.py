@@ -8,15 +8,19 @@ it is, the module uses Hertz, no rolling resistance and no heat.
 
 One DEM step (velocity Verlet, DESIGN.md "DEM physics"):
 
-1. :func:`initial_integrate`: v += dt/2 F/m, x += dt v, omega += dt/2 T/I, then
-   F = m g, T = 0, Q = 0 for the new forces (:func:`clear_forces` when resuming);
-   walls move (:func:`move_walls`).
-2. :func:`scan`: largest displacement since the last neighbour build (rebuild when it
+1. v += dt/2 F/m, x += dt v, omega += dt/2 T/I, then F = m g, T = 0, Q = 0 for the
+   new forces; walls move (:func:`move_walls`).
+2. scan: largest displacement since the last neighbour build (rebuild when it
    exceeds skin/2), particles outside the domain, NaN or runaway velocities.
 3. :func:`contact_forces` (parallel, two colours of slabs): the law of each pair once,
    added to both particles; plane and triangle contacts of each particle.
-4. :func:`final_integrate`: v += dt/2 F/m, omega += dt/2 T/I; T += dt Q/(m c_p).
-5. serial reductions of wall forces, torques and the coupling accumulators.
+4. v += dt/2 F/m, omega += dt/2 T/I; T += dt Q/(m c_p).
+5. serial sums of wall forces, torques and the coupling accumulators.
+
+Steps 4 and the next step's 1-2 run inside :func:`contact_forces`, slab by slab as the
+forces complete (:func:`_integrate_rows`), so a step has two parallel regions; only the
+first step of a call to :func:`advance` drifts on its own (:func:`initial_integrate`,
+:func:`scan`; :func:`clear_forces` when resuming after a rebuild).
 """
 import math
 
@@ -188,14 +192,71 @@ def clear_forces(n, gx, gy, gz, mass, f, tq, q, ncontact):
         q[i] = 0.0
 
 
+@njit(inline="always")
+def _integrate_rows(m0, m1, slab_list, mode, half_dt, dt, gx, gy, gz, x, v, w, f, tq, q,
+                    ncontact, mass, inertia, fixed, T, mcp_inv, x0, lo, hi, vmax2):
+    """Particles ``slab_list[m0:m1]``, whose forces are complete: the second half kick
+    v += dt/2 F/m, omega += dt/2 T/I and heat T += dt Q/(m c_p); with ``mode`` 2 also the
+    next step's first half kick, drift x += dt v and F = m g, T = 0, Q = 0, count 0
+    (:func:`initial_integrate`), returning the scan of those particles:
+    (max squared displacement since build, number outside the domain, lowest id whose
+    speed is NaN or above sqrt(vmax2), else -1) as :func:`scan` does."""
+    dmax = 0.0
+    nout = 0
+    bad = -1
+    for m in range(m0, m1):
+        i = slab_list[m]
+        mi = mass[i]
+        if not fixed[i]:
+            a = half_dt / mi
+            b = half_dt / inertia[i]
+            for d in range(3):
+                v[i, d] += a * f[i, d]
+                w[i, d] += b * tq[i, d]
+            if mode == 2:
+                for d in range(3):
+                    v[i, d] += a * f[i, d]
+                    x[i, d] += dt * v[i, d]
+                    w[i, d] += b * tq[i, d]
+        if HEAT_ON:
+            T[i] += dt * q[i] * mcp_inv[i]
+        if mode == 2:
+            f[i, 0] = mi * gx
+            f[i, 1] = mi * gy
+            f[i, 2] = mi * gz
+            for d in range(3):
+                tq[i, d] = 0.0
+            q[i] = 0.0
+            ncontact[i] = 0
+            d2 = 0.0
+            s2 = 0.0
+            out = False
+            for d in range(3):
+                xi = x[i, d]
+                dd = xi - x0[i, d]
+                d2 += dd * dd
+                s2 += v[i, d] * v[i, d]
+                if not (lo[d] <= xi <= hi[d]):
+                    out = True
+            if d2 > dmax:
+                dmax = d2
+            if out:
+                nout += 1
+            if not (s2 <= vmax2) and (bad < 0 or i < bad):
+                bad = i
+    return dmax, nout, bad
+
+
 @pjit
 def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
                    table, slab_start, slab_list, nb_start, nb_j, hist, pact,
                    pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
                    mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
                    mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
-                   wc_f, wc_q, wc_pt, overflow):
-    """Add all contact forces, torques and heat rates to f, tq, q (cleared before).
+                   wc_f, wc_q, wc_pt, overflow, pl_acc, mode, gx, gy, gz, fixed, mcp_inv,
+                   x0, lo, hi, vmax2, scan_out):
+    """Add all contact forces, torques and heat rates to f, tq, q (cleared before), and
+    (``mode`` 1 or 2) integrate each particle as soon as its forces are complete.
 
     Pairs (half list; a pair is stored at the particle of the lower slab): the law is
     evaluated once per pair and added to both particles (Newton's third law).  The
@@ -206,8 +267,18 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
     torque a_i n x F on i and a_j n x F on j (F the force on i).
 
     Plane contacts: overlap delta = R - (x - p).n, contact normal -n, lever R - delta,
-    wall velocity ``pl_v``.  Triangle contacts at the closest point with duplicate
+    wall velocity ``pl_v``; each slab s sums the force on its particles, their torque
+    about the plane's point and their heat into ``pl_acc[s, p]`` (see
+    :func:`plane_sums`).  Triangle contacts at the closest point with duplicate
     edge/vertex contacts of one wall removed (see :mod:`gsi.dem.walls`).
+
+    Integration in the same pass (``mode`` 0: none, the forces only; 1: the second half
+    kick; 2: that kick, then the next step's kick, drift and clear, see
+    :func:`_integrate_rows`): slab s receives forces only from slabs s - 1 and s, so
+    once the task of odd slab s (second colour) has run, slabs s and s + 1 are complete,
+    and only this task reads them in that colour; it integrates them at once (the task
+    of slab 1 also slab 0).  This leaves two parallel regions per step.  ``scan_out[s]``
+    gets the scan of the particles the task of slab s integrated (mode 2).
     """
     npl = pl_p.shape[0]
     nt = table.shape[0]
@@ -216,8 +287,8 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
     nslab = slab_start.shape[0] - 1
     for colour in range(2):
         for si in prange((nslab - colour + 1) // 2):
-            s = 2 * si + colour
-            for m in range(slab_start[s], slab_start[s + 1]):
+            sl = 2 * si + colour
+            for m in range(slab_start[sl], slab_start[sl + 1]):
                 i = slab_list[m]
                 mi = mass[i]
                 ri = radius[i]
@@ -339,6 +410,17 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                     pl_f[i, p, 0] = cfx
                     pl_f[i, p, 1] = cfy
                     pl_f[i, p, 2] = cfz
+                    # force on the particle and its moment about the plane's point, taken
+                    # at the contact point (the centre projected on the plane)
+                    rx = xi0 - dist * Nx - pl_p[p, 0]
+                    ry = xi1 - dist * Ny - pl_p[p, 1]
+                    rz = xi2 - dist * Nz - pl_p[p, 2]
+                    pl_acc[sl, p, 0] += cfx
+                    pl_acc[sl, p, 1] += cfy
+                    pl_acc[sl, p, 2] += cfz
+                    pl_acc[sl, p, 3] += ry * cfz - rz * cfy
+                    pl_acc[sl, p, 4] += rz * cfx - rx * cfz
+                    pl_acc[sl, p, 5] += rx * cfy - ry * cfx
                     fx += cfx
                     fy += cfy
                     fz += cfz
@@ -356,6 +438,7 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                             a2 = 2.0 * ri * delta - delta * delta
                             Qw = COND(a2, tab, row) * (pl_T[p] - Ti)
                         pl_q[i, p] = Qw
+                        pl_acc[sl, p, 6] += Qw
                         qi += Qw
                 pl_mask[i] = pmask
                 # ---- triangle meshes
@@ -491,59 +574,39 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                 tq[i, 2] += tz
                 if HEAT_ON:
                     q[i] += qi
-
-
-@pjit
-def final_integrate(n, kick, dt_heat, v, w, f, tq, q, mass, inertia, fixed, T, mcp_inv):
-    """Second half kick v += dt/2 F/m, omega += dt/2 T/I; heat T += dt Q/(m c_p)."""
-    for i in prange(n):
-        if not fixed[i]:
-            a = kick / mass[i]
-            b = kick / inertia[i]
-            for d in range(3):
-                v[i, d] += a * f[i, d]
-                w[i, d] += b * tq[i, d]
-        if HEAT_ON:
-            T[i] += dt_heat * q[i] * mcp_inv[i]
+            if colour == 1 and mode > 0:
+                m0 = slab_start[0] if sl == 1 else slab_start[sl]
+                m1 = slab_start[min(sl + 2, nslab)]
+                dm, no, bd = _integrate_rows(m0, m1, slab_list, mode, 0.5 * dt, dt, gx, gy,
+                                             gz, x, v, w, f, tq, q, ncontact, mass, inertia,
+                                             fixed, T, mcp_inv, x0, lo, hi, vmax2)
+                scan_out[sl, 0] = dm
+                scan_out[sl, 1] = no
+                scan_out[sl, 2] = bd
+    if nslab == 1 and mode > 0:        # no second colour: the one slab is complete now
+        dm, no, bd = _integrate_rows(0, n, slab_list, mode, 0.5 * dt, dt, gx, gy, gz, x, v,
+                                     w, f, tq, q, ncontact, mass, inertia, fixed, T,
+                                     mcp_inv, x0, lo, hi, vmax2)
+        scan_out[0, 0] = dm
+        scan_out[0, 1] = no
+        scan_out[0, 2] = bd
 
 
 @njit
-def plane_reduce(n, dt, x, pl_p, pl_n, pl_f, pl_q, pl_mask, pl_force, pl_torque, pl_imp,
-                 pl_heat):
-    """Force and torque of the particles ON each plane (torque about the plane's point);
-    accumulate impulse on particles (N s) and heat to particles (J)."""
-    npl = pl_p.shape[0]
+def plane_sums(dt, pl_acc, pl_force, pl_torque, pl_imp, pl_heat):
+    """Force and torque of the particles ON each plane (torque about the plane's point)
+    from the per-slab sums of :func:`contact_forces`; accumulate the impulse on the
+    particles (N s) and the heat to them (J); clear the sums for the next step."""
     pl_force[:] = 0.0
     pl_torque[:] = 0.0
-    for i in range(n):
-        if pl_mask[i] == 0:
-            continue
-        for p in range(npl):
-            if not (pl_mask[i] >> p) & 1:
-                continue
-            Fx = pl_f[i, p, 0]
-            Fy = pl_f[i, p, 1]
-            Fz = pl_f[i, p, 2]
-            Nx = pl_n[p, 0]
-            Ny = pl_n[p, 1]
-            Nz = pl_n[p, 2]
-            rx = x[i, 0] - pl_p[p, 0]
-            ry = x[i, 1] - pl_p[p, 1]
-            rz = x[i, 2] - pl_p[p, 2]
-            dist = rx * Nx + ry * Ny + rz * Nz
-            rx -= dist * Nx
-            ry -= dist * Ny
-            rz -= dist * Nz
-            pl_force[p, 0] -= Fx
-            pl_force[p, 1] -= Fy
-            pl_force[p, 2] -= Fz
-            pl_torque[p, 0] -= ry * Fz - rz * Fy
-            pl_torque[p, 1] -= rz * Fx - rx * Fz
-            pl_torque[p, 2] -= rx * Fy - ry * Fx
-            pl_imp[p, 0] += Fx * dt
-            pl_imp[p, 1] += Fy * dt
-            pl_imp[p, 2] += Fz * dt
-            pl_heat[p] += pl_q[i, p] * dt
+    for s in range(pl_acc.shape[0]):
+        for p in range(pl_acc.shape[1]):
+            for d in range(3):
+                pl_force[p, d] -= pl_acc[s, p, d]
+                pl_torque[p, d] -= pl_acc[s, p, 3 + d]
+                pl_imp[p, d] += pl_acc[s, p, d] * dt
+            pl_heat[p] += pl_acc[s, p, 6] * dt
+    pl_acc[:] = 0.0
 
 
 @njit(inline="always")
@@ -633,6 +696,10 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, *arrays)
     ``arrays``: the particle, pair-list, plane and mesh arrays in the order unpacked
     below (flat, so that numba's fast argument dispatch applies).
 
+    Each step is the force pass (:func:`contact_forces`, which also ends this step and,
+    unless it is the last one, starts the next: kick, drift, clear, scan), then the
+    serial wall sums and the wall motion.
+
     Returns ``(steps_done, code, info)``: code 0 all done; 1 a rebuild is needed
     (the step ``steps_done`` has drifted; resume it with ``skip_first_drift``);
     2 ``info`` particles left the domain (same resume); 3 particle ``info`` blew up
@@ -651,36 +718,67 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, *arrays)
     half_dt = 0.5 * dt
     npl = pl_p.shape[0]
     nv = mv_x.shape[0]
+    nslab = slab_start.shape[0] - 1
+    pl_acc = np.zeros((nslab, npl, 7))
+    scan_out = np.zeros((nslab, 3))
+    if skip_first_drift:
+        clear_forces(n, g[0], g[1], g[2], mass, f, tq, q, ncontact)
+    else:
+        initial_integrate(n, x, v, w, f, tq, q, ncontact, mass, inertia, fixed, half_dt,
+                          dt, g[0], g[1], g[2])
+        wd2 = move_walls(dt, pl_p, pl_v, mv_x, mv_v, mv_x0, mv_wall, mw_rigid, mw_vel,
+                         mw_omega, mw_centre)
+        d2, nout, bad = scan(n, x, v, x0, lo, hi, vmax2)
+        code, info = _verdict(d2, wd2, nout, bad, half_skin2)
+        if code != 0:
+            return 0, code, info
     for s in range(nsteps):
-        if not (s == 0 and skip_first_drift):
-            initial_integrate(n, x, v, w, f, tq, q, ncontact, mass, inertia, fixed, half_dt,
-                              dt, g[0], g[1], g[2])
-            wd2 = move_walls(dt, pl_p, pl_v, mv_x, mv_v, mv_x0, mv_wall, mw_rigid, mw_vel,
-                             mw_omega, mw_centre)
-            d2, nout, bad = scan(n, x, v, x0, lo, hi, vmax2)
-            if bad >= 0:
-                return s, 3, bad
-            if nout > 0:
-                return s, 2, nout
-            if d2 > half_skin2 or wd2 > half_skin2:
-                return s, 1, 0
-        else:
-            clear_forces(n, g[0], g[1], g[2], mass, f, tq, q, ncontact)
+        mode = 1 if s == nsteps - 1 else 2
+        scan_out[:, 0] = 0.0
+        scan_out[:, 1] = 0.0
+        scan_out[:, 2] = -1.0
         contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
                        table, slab_start, slab_list, nb_start, nb_j, hist, pact,
                        pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
                        mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
                        mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
-                       wc_f, wc_q, wc_pt, overflow)
-        final_integrate(n, half_dt, dt, v, w, f, tq, q, mass, inertia, fixed, T, mcp_inv)
+                       wc_f, wc_q, wc_pt, overflow, pl_acc, mode, g[0], g[1], g[2], fixed,
+                       mcp_inv, x0, lo, hi, vmax2, scan_out)
         if npl > 0:
-            plane_reduce(n, dt, x, pl_p, pl_n, pl_f, pl_q, pl_mask, pl_force, pl_torque,
-                         pl_imp, pl_heat)
+            plane_sums(dt, pl_acc, pl_force, pl_torque, pl_imp, pl_heat)
         if nv > 0:
             mesh_scatter(n, dt, wc_n, wc_tri, wc_w, wc_f, wc_q, wc_pt, mt, mt_wall,
                          mw_centre, mw_force, mw_torque, mt_force, mv_imp, mv_heat,
                          mw_imp_p, mw_heat_p, mt_p6, mt_lam)
+        if mode == 2:
+            # the next step has drifted: its walls move, then the scan decides
+            wd2 = move_walls(dt, pl_p, pl_v, mv_x, mv_v, mv_x0, mv_wall, mw_rigid, mw_vel,
+                             mw_omega, mw_centre)
+            d2 = 0.0
+            nout = 0
+            bad = -1
+            for k in range(nslab):
+                d2 = max(d2, scan_out[k, 0])
+                nout += int(scan_out[k, 1])
+                b = int(scan_out[k, 2])
+                if b >= 0 and (bad < 0 or b < bad):
+                    bad = b
+            code, info = _verdict(d2, wd2, nout, bad, half_skin2)
+            if code != 0:
+                return s + 1, code, info
     return nsteps, 0, 0
+
+
+@njit
+def _verdict(d2, wd2, nout, bad, half_skin2):
+    """(code, info) of :func:`advance` from a scan after a drift."""
+    if bad >= 0:
+        return 3, bad
+    if nout > 0:
+        return 2, nout
+    if d2 > half_skin2 or wd2 > half_skin2:
+        return 1, 0
+    return 0, 0
 
 
 @njit
@@ -697,13 +795,16 @@ def compute_forces(g, *arrays):
      wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
      mv_imp, mv_heat, mw_imp_p, mw_heat_p, mt_p6, mt_lam) = arrays
     n = x.shape[0]
+    nslab = slab_start.shape[0] - 1
     clear_forces(n, g[0], g[1], g[2], mass, f, tq, q, ncontact)
     contact_forces(n, 0.0, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
                    table, slab_start, slab_list, nb_start, nb_j, hist, pact,
                    pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
                    mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
                    mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
-                   wc_f, wc_q, wc_pt, overflow)
+                   wc_f, wc_q, wc_pt, overflow, np.zeros((nslab, pl_p.shape[0], 7)), 0,
+                   g[0], g[1], g[2], fixed, mcp_inv, x0, g, g, 0.0,
+                   np.zeros((nslab, 3)))
 
 
 @njit
