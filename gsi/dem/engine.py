@@ -43,27 +43,64 @@ MAX_WALL_SLOTS = 8
 SAME_POINT_TOL = 1e-9
 
 
+@njit(inline="always")
+def _clear_one(i, gx, gy, gz, mass, f, tq, q, ncontact):
+    """F = m g, T = 0, Q = 0, contact count 0 for particle i (before contacts add up)."""
+    ncontact[i] = 0
+    f[i, 0] = mass[i] * gx
+    f[i, 1] = mass[i] * gy
+    f[i, 2] = mass[i] * gz
+    for d in range(3):
+        tq[i, d] = 0.0
+    q[i] = 0.0
+
+
+@njit(inline="always")
+def _kick_one(i, half_dt, v, w, f, tq, mass, inertia, fixed):
+    """Half kick of particle i (unless fixed): v += dt/2 F/m, omega += dt/2 T/I."""
+    if not fixed[i]:
+        a = half_dt / mass[i]
+        b = half_dt / inertia[i]
+        for d in range(3):
+            v[i, d] += a * f[i, d]
+            w[i, d] += b * tq[i, d]
+
+
+@njit(inline="always")
+def _drift_one(i, half_dt, dt, gx, gy, gz, x, v, w, f, tq, q, ncontact, mass, inertia,
+               fixed):
+    """First half kick and drift of particle i: v += dt/2 F/m, omega += dt/2 T/I,
+    x += dt v; then clear it for the new forces (:func:`_clear_one`)."""
+    _kick_one(i, half_dt, v, w, f, tq, mass, inertia, fixed)
+    if not fixed[i]:
+        for d in range(3):
+            x[i, d] += dt * v[i, d]
+    _clear_one(i, gx, gy, gz, mass, f, tq, q, ncontact)
+
+
+@njit(inline="always")
+def _scan_one(i, x, v, x0, lo, hi):
+    """(squared displacement since build, squared speed, outside the domain) of i."""
+    d2 = 0.0
+    s2 = 0.0
+    out = False
+    for d in range(3):
+        xi = x[i, d]
+        dd = xi - x0[i, d]
+        d2 += dd * dd
+        s2 += v[i, d] * v[i, d]
+        if not (lo[d] <= xi <= hi[d]):
+            out = True
+    return d2, s2, out
+
+
 @pjit
 def initial_integrate(n, x, v, w, f, tq, q, ncontact, mass, inertia, fixed, half_dt, dt,
                       gx, gy, gz):
-    """First half kick and drift: v += dt/2 F/m; x += dt v; omega += dt/2 T/I; then
-    clear for the new forces: F = m g, T = 0, Q = 0, contact count 0."""
+    """First half kick and drift of every particle, then clear (:func:`_drift_one`)."""
     for i in prange(n):
-        mi = mass[i]
-        if not fixed[i]:
-            a = half_dt / mi
-            b = half_dt / inertia[i]
-            for d in range(3):
-                v[i, d] += a * f[i, d]
-                x[i, d] += dt * v[i, d]
-                w[i, d] += b * tq[i, d]
-        f[i, 0] = mi * gx
-        f[i, 1] = mi * gy
-        f[i, 2] = mi * gz
-        for d in range(3):
-            tq[i, d] = 0.0
-        q[i] = 0.0
-        ncontact[i] = 0
+        _drift_one(i, half_dt, dt, gx, gy, gz, x, v, w, f, tq, q, ncontact, mass, inertia,
+                   fixed)
 
 
 @njit
@@ -77,16 +114,7 @@ def scan(n, x, v, x0, lo, hi, vmax2):
     nout = 0
     bad = -1
     for i in range(n):
-        d2 = 0.0
-        s2 = 0.0
-        out = False
-        for d in range(3):
-            xi = x[i, d]
-            dd = xi - x0[i, d]
-            d2 += dd * dd
-            s2 += v[i, d] * v[i, d]
-            if not (lo[d] <= xi <= hi[d]):
-                out = True
+        d2, s2, out = _scan_one(i, x, v, x0, lo, hi)
         if d2 > dmax:
             dmax = d2
         if out:
@@ -183,13 +211,7 @@ def _feature(t, region, mt, mt_edge):
 def clear_forces(n, gx, gy, gz, mass, f, tq, q, ncontact):
     """f = m g, torque = 0, heat rate = 0, contact count = 0 (before contacts add up)."""
     for i in prange(n):
-        ncontact[i] = 0
-        f[i, 0] = mass[i] * gx
-        f[i, 1] = mass[i] * gy
-        f[i, 2] = mass[i] * gz
-        for d in range(3):
-            tq[i, d] = 0.0
-        q[i] = 0.0
+        _clear_one(i, gx, gy, gz, mass, f, tq, q, ncontact)
 
 
 @njit(inline="always")
@@ -197,47 +219,22 @@ def _integrate_rows(m0, m1, slab_list, mode, half_dt, dt, gx, gy, gz, x, v, w, f
                     ncontact, mass, inertia, fixed, T, mcp_inv, x0, lo, hi, vmax2):
     """Particles ``slab_list[m0:m1]``, whose forces are complete: the second half kick
     v += dt/2 F/m, omega += dt/2 T/I and heat T += dt Q/(m c_p); with ``mode`` 2 also the
-    next step's first half kick, drift x += dt v and F = m g, T = 0, Q = 0, count 0
-    (:func:`initial_integrate`), returning the scan of those particles:
-    (max squared displacement since build, number outside the domain, lowest id whose
-    speed is NaN or above sqrt(vmax2), else -1) as :func:`scan` does."""
+    next step's first half kick, drift and clear (:func:`_drift_one`), returning the
+    scan of those particles: (max squared displacement since build, number outside the
+    domain, lowest id whose speed is NaN or above sqrt(vmax2), else -1) as
+    :func:`scan` does."""
     dmax = 0.0
     nout = 0
     bad = -1
     for m in range(m0, m1):
         i = slab_list[m]
-        mi = mass[i]
-        if not fixed[i]:
-            a = half_dt / mi
-            b = half_dt / inertia[i]
-            for d in range(3):
-                v[i, d] += a * f[i, d]
-                w[i, d] += b * tq[i, d]
-            if mode == 2:
-                for d in range(3):
-                    v[i, d] += a * f[i, d]
-                    x[i, d] += dt * v[i, d]
-                    w[i, d] += b * tq[i, d]
+        _kick_one(i, half_dt, v, w, f, tq, mass, inertia, fixed)
         if HEAT_ON:
             T[i] += dt * q[i] * mcp_inv[i]
         if mode == 2:
-            f[i, 0] = mi * gx
-            f[i, 1] = mi * gy
-            f[i, 2] = mi * gz
-            for d in range(3):
-                tq[i, d] = 0.0
-            q[i] = 0.0
-            ncontact[i] = 0
-            d2 = 0.0
-            s2 = 0.0
-            out = False
-            for d in range(3):
-                xi = x[i, d]
-                dd = xi - x0[i, d]
-                d2 += dd * dd
-                s2 += v[i, d] * v[i, d]
-                if not (lo[d] <= xi <= hi[d]):
-                    out = True
+            _drift_one(i, half_dt, dt, gx, gy, gz, x, v, w, f, tq, q, ncontact, mass,
+                       inertia, fixed)
+            d2, s2, out = _scan_one(i, x, v, x0, lo, hi)
             if d2 > dmax:
                 dmax = d2
             if out:

@@ -3,8 +3,8 @@
 - The domain box is cut into cells no smaller than 2 R_max + skin, so the 27 cells
   around a particle hold all its possible partners.
 - Half list: pair (i, j) is stored once when |x_i - x_j| < R_i + R_j + skin, by the
-  particle in the lower *slab* (slabs: the layers of cells along the axis where the
-  particles spread most; ties by the smaller index).  The force kernel then writes
+  particle in the lower *slab* (slabs: layers at least one cutoff thick along the axis
+  where the particles spread most, see :func:`slab_layout`; ties by the smaller index).  The force kernel then writes
   only to its own slab and the next one, so slabs of one parity run in parallel
   without races (see :func:`gsi.dem.engine.contact_forces`).
 - The list is rebuilt when any particle (or wall vertex) has moved more than skin/2
@@ -134,19 +134,34 @@ def fill_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims
                             pos += 1
 
 
+def slab_layout(coord, cutoff, nthreads):
+    """Slabs along one axis: ``(lo, inv_width, nslab)`` for particle coordinates ``coord``.
+
+    Slabs are at least ``cutoff`` wide (so pair partners sit in the same or adjacent
+    slabs) and as many as fit over the particles' extent, rounded down to a multiple of
+    2 x ``nthreads`` when there are that many: each colour of
+    :func:`gsi.dem.engine.contact_forces` then splits evenly over the threads.
+    """
+    if len(coord) == 0:
+        return 0.0, 0.0, 1
+    lo = float(coord.min())
+    ext = float(coord.max()) - lo
+    nmax = max(1, int(ext / cutoff)) if cutoff > 0 else 1
+    g = 2 * max(1, int(nthreads))
+    nslab = (nmax // g) * g if nmax >= g else nmax
+    # widen by a hair so the highest particle falls in the last slab
+    inv_w = nslab / (ext * (1.0 + 1e-9) + 1e-300)
+    return lo, inv_w, nslab
+
+
 @njit
-def slab_sort(n, cell_of, cell_list, dims, axis):
-    """Slabs of cells along ``axis``: ``(slab_of (n), slab_start (nslab+1), slab_list (n))``,
-    particles of a slab in cell order (locality)."""
-    nslab = dims[axis]
+def slab_sort(n, x, cell_list, axis, lo, inv_w, nslab):
+    """Slab of each particle along ``axis``: ``(slab_of (n), slab_start (nslab+1),
+    slab_list (n))``, particles of a slab in cell order (locality)."""
     slab_of = np.empty(n, np.int64)
     for i in range(n):
-        c = cell_of[i]
-        cx = c // (dims[1] * dims[2])
-        r = c - cx * dims[1] * dims[2]
-        cy = r // dims[2]
-        cz = r - cy * dims[2]
-        slab_of[i] = cx if axis == 0 else (cy if axis == 1 else cz)
+        s = int((x[i, axis] - lo) * inv_w)
+        slab_of[i] = min(max(s, 0), nslab - 1)
     slab_start = np.zeros(nslab + 1, np.int64)
     for i in range(n):
         slab_start[slab_of[i] + 1] += 1

@@ -563,7 +563,10 @@ class Simulation:
         # slabs along the axis where the particles spread over most cells
         spread = [np.ptp(np.floor((x[:, d] - self.lo[d]) * inv_cs[d])) if n else 0 for d in range(3)]
         axis = int(np.argmax(spread))
-        slab_of, slab_start, slab_list = nbr.slab_sort(n, cell_of, cell_list, dims, axis)
+        threads = 1 if n < self.parallel_min_n else numba.get_num_threads()
+        s_lo, s_inv_w, nslab = nbr.slab_layout(x[:, axis], 2 * rmax + self.skin, threads)
+        slab_of, slab_start, slab_list = nbr.slab_sort(n, x, cell_list, axis, s_lo, s_inv_w,
+                                                       nslab)
         counts = np.empty(n, np.int64)
         nbr.count_pairs(n, x, r, self.skin, cell_of, slab_of, cell_start, cell_list, dims, counts)
         nb_start = np.zeros(n + 1, np.int64)

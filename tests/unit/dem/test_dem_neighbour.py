@@ -56,3 +56,67 @@ def test_history_survives_rebuild_and_deletion():
     assert set(after) == set(before)
     for key, h in before.items():
         np.testing.assert_array_equal(after[key], h)
+
+
+def test_slab_layout_is_wide_enough_and_splits_evenly_over_threads():
+    from gsi.dem.neighbour import slab_layout
+    coord = np.random.default_rng(1).uniform(0.0, 0.084, 5000)
+    for threads, expect in [(1, 34), (2, 32), (4, 32), (8, 32), (32, 34)]:
+        lo, inv_w, nslab = slab_layout(coord, 2.4e-3, threads)
+        assert nslab == expect
+        assert 1.0 / inv_w >= 2.4e-3
+        s = np.floor((coord - lo) * inv_w)
+        assert s.min() == 0 and s.max() == nslab - 1
+    assert slab_layout(np.array([0.01]), 2.4e-3, 2)[2] == 1
+
+
+def test_pairs_are_stored_in_the_lower_of_two_adjacent_slabs():
+    """The race-free force pass needs every pair within one slab or two adjacent ones,
+    stored at the particle of the lower slab."""
+    L = 0.03
+    sim = Simulation(MAT, gravity=(0, 0, -9.81), dt=2e-6, skin=3e-4, domain=((0, 0, 0), (L, L, L)),
+                     parallel_min_n=10)
+    rng = np.random.default_rng(2)
+    x, r = random_fill(Box((0, 0, 0), (L, L, 0.02)), 1e-3, count=600, rng=rng)
+    sim.add_particles(x, r, material="m")
+    sim.step(20)
+    slab_start, slab_list, nb_start, nb_j = sim._nb[:4]
+    nslab = len(slab_start) - 1
+    assert nslab >= 4 and nslab % 2 == 0
+    slab_of = np.empty(sim.n, int)
+    for s in range(nslab):
+        slab_of[slab_list[slab_start[s]:slab_start[s + 1]]] = s
+    for i in range(sim.n):
+        d = slab_of[nb_j[nb_start[i]:nb_start[i + 1]]] - slab_of[i]
+        assert np.all((d == 0) | (d == 1))
+
+
+def test_two_threads_give_the_serial_result():
+    """The parallel force-and-integrate pass (two colours of slabs) against one thread:
+    the same bed to round-off (the slab count, hence the summation order, differs)."""
+    import numba
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        import pytest
+        pytest.skip("needs 2 numba threads")
+
+    def run(threads):
+        L = 0.03
+        sim = Simulation(MAT, gravity=(0, 0, -9.81), dt=2e-6, skin=3e-4,
+                         domain=((0, 0, 0), (L, L, L)), parallel_min_n=10)
+        rng = np.random.default_rng(4)
+        x, r = random_fill(Box((0, 0, 0), (L, L, 0.02)), 1e-3, count=700, rng=rng)
+        sim.add_particles(x, r, material="m", v=rng.normal(0, 0.2, x.shape))
+        sim.add_plane((0, 0, 0), (0, 0, 1), material="m")
+        old = numba.get_num_threads()
+        numba.set_num_threads(threads)
+        try:
+            sim.step(2000)
+        finally:
+            numba.set_num_threads(old)
+        return sim
+
+    a, b = run(1), run(2)
+    assert a.n_rebuilds == b.n_rebuilds and a.contact_count() == b.contact_count() > 20
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(b.v, a.v, rtol=0, atol=1e-9 * np.abs(a.v).max())
+    np.testing.assert_allclose(b.planes[0].force, a.planes[0].force, rtol=1e-9)
