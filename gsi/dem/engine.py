@@ -376,6 +376,7 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                         q[j] -= Qp
                 # ---- planes
                 pmask = 0
+                was = pl_mask[i]             # planes touched at the last step
                 for p in range(npl):
                     Nx = pl_n[p, 0]
                     Ny = pl_n[p, 1]
@@ -383,7 +384,7 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                     dist = (xi0 - pl_p[p, 0]) * Nx + (xi1 - pl_p[p, 1]) * Ny + (xi2 - pl_p[p, 2]) * Nz
                     delta = ri - dist
                     if delta <= 0.0:
-                        if pl_f[i, p, 0] != 0.0 or pl_f[i, p, 1] != 0.0 or pl_f[i, p, 2] != 0.0:
+                        if (was >> p) & 1:     # contact ended: spring and record reset
                             plh[i * npl + p, 0] = 0.0
                             plh[i * npl + p, 1] = 0.0
                             plh[i * npl + p, 2] = 0.0
