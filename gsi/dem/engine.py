@@ -244,6 +244,36 @@ def _integrate_rows(m0, m1, slab_list, mode, half_dt, dt, gx, gy, gz, x, v, w, f
     return dmax, nout, bad
 
 
+@njit(inline="always")
+def _wall_contact(i, nx, ny, nz, lever, delta, wvx, wvy, wvz, v, w, ri, mi, Ii, Ti, tab,
+                  row, hist, k, dt, has_T, T_w):
+    """One particle-wall contact (plane or triangle), shared by both wall kinds.
+
+    ``n`` is the unit normal from the centre of i to the contact point at distance
+    ``lever``, ``delta`` the overlap, ``wv`` the wall velocity there, ``row`` the
+    (particle type, wall type) row of the pair table, ``hist[k]`` the tangential spring;
+    the wall counts as infinitely large and heavy (R* = R_i, m* = m_i).  Returns the
+    force on i, the torque on i (lever n x F plus rolling resistance) and the heat
+    rate into i (0 unless the heat model is on and the wall has a temperature ``T_w``).
+    """
+    vx = v[i, 0] - wvx + lever * (w[i, 1] * nz - w[i, 2] * ny)
+    vy = v[i, 1] - wvy + lever * (w[i, 2] * nx - w[i, 0] * nz)
+    vz = v[i, 2] - wvz + lever * (w[i, 0] * ny - w[i, 1] * nx)
+    cfx, cfy, cfz, F_n = LAW(nx, ny, nz, delta, vx, vy, vz, ri, mi, tab, row, hist, k, dt)
+    tx = lever * (ny * cfz - nz * cfy)
+    ty = lever * (nz * cfx - nx * cfz)
+    tz = lever * (nx * cfy - ny * cfx)
+    if ROLL_ON:
+        Mx, My, Mz = ROLL(w[i, 0], w[i, 1], w[i, 2], ri, F_n, tab, row, Ii, dt)
+        tx += Mx
+        ty += My
+        tz += Mz
+    Qw = 0.0
+    if HEAT_ON and has_T:
+        Qw = COND(2.0 * ri * delta - delta * delta, tab, row) * (T_w - Ti)
+    return cfx, cfy, cfz, tx, ty, tz, Qw
+
+
 @pjit
 def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
                    table, slab_start, slab_list, nb_start, nb_j, hist, pact,
@@ -395,19 +425,14 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                         continue
                     nc += 1
                     pmask |= 1 << p
-                    nx = -Nx
-                    ny = -Ny
-                    nz = -Nz
-                    a_i = dist
-                    vx = v[i, 0] - pl_v[p, 0] + a_i * (w[i, 1] * nz - w[i, 2] * ny)
-                    vy = v[i, 1] - pl_v[p, 1] + a_i * (w[i, 2] * nx - w[i, 0] * nz)
-                    vz = v[i, 2] - pl_v[p, 2] + a_i * (w[i, 0] * ny - w[i, 1] * nx)
-                    row = row_i + pl_type[p]
-                    cfx, cfy, cfz, F_n = LAW(nx, ny, nz, delta, vx, vy, vz, ri, mi, tab, row,
-                                             plh, i * npl + p, dt)
+                    cfx, cfy, cfz, ctx, cty, ctz, Qw = _wall_contact(
+                        i, -Nx, -Ny, -Nz, dist, delta, pl_v[p, 0], pl_v[p, 1], pl_v[p, 2], v, w,
+                        ri, mi, inertia[i], Ti, tab, row_i + pl_type[p], plh, i * npl + p, dt,
+                        pl_hasT[p], pl_T[p])
                     pl_f[i, p, 0] = cfx
                     pl_f[i, p, 1] = cfy
                     pl_f[i, p, 2] = cfz
+                    pl_q[i, p] = Qw
                     # force on the particle and its moment about the plane's point, taken
                     # at the contact point (the centre projected on the plane)
                     rx = xi0 - dist * Nx - pl_p[p, 0]
@@ -419,25 +444,14 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                     pl_acc[sl, p, 3] += ry * cfz - rz * cfy
                     pl_acc[sl, p, 4] += rz * cfx - rx * cfz
                     pl_acc[sl, p, 5] += rx * cfy - ry * cfx
+                    pl_acc[sl, p, 6] += Qw
                     fx += cfx
                     fy += cfy
                     fz += cfz
-                    tx += a_i * (ny * cfz - nz * cfy)
-                    ty += a_i * (nz * cfx - nx * cfz)
-                    tz += a_i * (nx * cfy - ny * cfx)
-                    if ROLL_ON:
-                        Mx, My, Mz = ROLL(w[i, 0], w[i, 1], w[i, 2], ri, F_n, tab, row, inertia[i], dt)
-                        tx += Mx
-                        ty += My
-                        tz += Mz
-                    if HEAT_ON:
-                        Qw = 0.0
-                        if pl_hasT[p]:
-                            a2 = 2.0 * ri * delta - delta * delta
-                            Qw = COND(a2, tab, row) * (pl_T[p] - Ti)
-                        pl_q[i, p] = Qw
-                        pl_acc[sl, p, 6] += Qw
-                        qi += Qw
+                    tx += ctx
+                    ty += cty
+                    tz += ctz
+                    qi += Qw
                 pl_mask[i] = pmask
                 # ---- triangle meshes
                 ns = 0
@@ -531,36 +545,25 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                         wvx = wa * mv_v[a, 0] + wb * mv_v[b, 0] + wcc * mv_v[c, 0]
                         wvy = wa * mv_v[a, 1] + wb * mv_v[b, 1] + wcc * mv_v[c, 1]
                         wvz = wa * mv_v[a, 2] + wb * mv_v[b, 2] + wcc * mv_v[c, 2]
-                        vx = v[i, 0] - wvx + dist * (w[i, 1] * nz - w[i, 2] * ny)
-                        vy = v[i, 1] - wvy + dist * (w[i, 2] * nx - w[i, 0] * nz)
-                        vz = v[i, 2] - wvz + dist * (w[i, 0] * ny - w[i, 1] * nx)
                         wl = mt_wall[t]
-                        row = row_i + mw_type[wl]
-                        cfx, cfy, cfz, F_n = LAW(nx, ny, nz, delta, vx, vy, vz, ri, mi, tab, row,
-                                                 mc_hist, wc_k[i, s], dt)
+                        T_w = 0.0
+                        if HEAT_ON:
+                            T_w = wa * mv_T[a] + wb * mv_T[b] + wcc * mv_T[c]
+                        cfx, cfy, cfz, ctx, cty, ctz, Qw = _wall_contact(
+                            i, nx, ny, nz, dist, delta, wvx, wvy, wvz, v, w, ri, mi, inertia[i],
+                            Ti, tab, row_i + mw_type[wl], mc_hist, wc_k[i, s], dt, mw_hasT[wl],
+                            T_w)
                         wc_f[i, s, 0] = cfx
                         wc_f[i, s, 1] = cfy
                         wc_f[i, s, 2] = cfz
+                        wc_q[i, s] = Qw
                         fx += cfx
                         fy += cfy
                         fz += cfz
-                        tx += dist * (ny * cfz - nz * cfy)
-                        ty += dist * (nz * cfx - nx * cfz)
-                        tz += dist * (nx * cfy - ny * cfx)
-                        if ROLL_ON:
-                            Mx, My, Mz = ROLL(w[i, 0], w[i, 1], w[i, 2], ri, F_n, tab, row, inertia[i],
-                                              dt)
-                            tx += Mx
-                            ty += My
-                            tz += Mz
-                        Qw = 0.0
-                        if HEAT_ON:
-                            if mw_hasT[wl]:
-                                a2 = 2.0 * ri * delta - delta * delta
-                                Tw = wa * mv_T[a] + wb * mv_T[b] + wcc * mv_T[c]
-                                Qw = COND(a2, tab, row) * (Tw - Ti)
-                            qi += Qw
-                        wc_q[i, s] = Qw
+                        tx += ctx
+                        ty += cty
+                        tz += ctz
+                        qi += Qw
                         nc += 1
                 wc_n[i] = ns
                 ncontact[i] += nc

@@ -46,8 +46,10 @@ How it runs (for speed, see ``benchmarks/settle.py``):
   particles or to insert particles.
 - Threads: numba's (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``); below
   ``parallel_min_n`` particles one thread is used.  The pair loop is parallel over
-  slabs of cells in two colours (no atomics, no per-pair buffers), so each pair's law
-  is evaluated once and Newton's third law holds exactly.  Use at most as many
+  slabs (at least one cutoff thick, a multiple of 2 x threads) in two colours (no
+  atomics, no per-pair buffers), so each pair's law is evaluated once and Newton's
+  third law holds exactly; each slab is integrated inside the same pass as soon as its
+  forces are complete, so a step has two parallel regions.  Use at most as many
   threads as free cores: an OpenMP barrier waiting for a descheduled thread costs a
   whole scheduler time slice per parallel region.
 """
