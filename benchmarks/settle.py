@@ -128,7 +128,8 @@ def main(argv=None):
             print(f"{k} = {v}")
         res.update(lig)
         res["ratio"] = res["gsi_particle_steps_per_s"] / lig["liggghts_particle_steps_per_s"]
-    keys = ["gsi_threads", "gsi_particle_steps_per_s", "gsi_bytes_per_particle", "gsi_bed_top",
+    res["particle_steps_per_s"] = res["gsi_particle_steps_per_s"]   # the key name
+    keys = ["gsi_threads", "particle_steps_per_s", "gsi_bytes_per_particle", "gsi_bed_top",
             "gsi_mean_z", "gsi_ke", "gsi_lost"]
     if args.vs_liggghts:
         keys += ["liggghts_particle_steps_per_s", "liggghts_bed_top", "liggghts_mean_z",
