@@ -277,7 +277,7 @@ def _wall_contact(i, nx, ny, nz, lever, delta, wvx, wvy, wvz, v, w, ri, mi, Ii, 
 @pjit
 def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
                    table, slab_start, slab_list, nb_start, nb_j, hist, pact,
-                   pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
+                   pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask,
                    mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
                    mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
                    wc_f, wc_q, wc_pt, overflow, pl_acc, mode, gx, gy, gz, fixed, mcp_inv,
@@ -414,14 +414,10 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                     dist = (xi0 - pl_p[p, 0]) * Nx + (xi1 - pl_p[p, 1]) * Ny + (xi2 - pl_p[p, 2]) * Nz
                     delta = ri - dist
                     if delta <= 0.0:
-                        if (was >> p) & 1:     # contact ended: spring and record reset
+                        if (was >> p) & 1:     # contact ended: the spring restarts
                             plh[i * npl + p, 0] = 0.0
                             plh[i * npl + p, 1] = 0.0
                             plh[i * npl + p, 2] = 0.0
-                            pl_f[i, p, 0] = 0.0
-                            pl_f[i, p, 1] = 0.0
-                            pl_f[i, p, 2] = 0.0
-                            pl_q[i, p] = 0.0
                         continue
                     nc += 1
                     pmask |= 1 << p
@@ -429,10 +425,6 @@ def contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, nc
                         i, -Nx, -Ny, -Nz, dist, delta, pl_v[p, 0], pl_v[p, 1], pl_v[p, 2], v, w,
                         ri, mi, inertia[i], Ti, tab, row_i + pl_type[p], plh, i * npl + p, dt,
                         pl_hasT[p], pl_T[p])
-                    pl_f[i, p, 0] = cfx
-                    pl_f[i, p, 1] = cfy
-                    pl_f[i, p, 2] = cfz
-                    pl_q[i, p] = Qw
                     # force on the particle and its moment about the plane's point, taken
                     # at the contact point (the centre projected on the plane)
                     rx = xi0 - dist * Nx - pl_p[p, 0]
@@ -660,30 +652,27 @@ def mesh_scatter(n, dt, wc_n, wc_tri, wc_w, wc_f, wc_q, wc_pt, mt, mt_wall, mw_c
             mw_torque[wl, 0] -= ry * Fz - rz * Fy
             mw_torque[wl, 1] -= rz * Fx - rx * Fz
             mw_torque[wl, 2] -= rx * Fy - ry * Fx
-            if mt_p6[t, 0] < 0:
-                for c in range(3):
-                    a = mt[t, c]
-                    wk = wc_w[i, s, c]
-                    mv_imp[a, 0] -= Fx * wk * dt
-                    mv_imp[a, 1] -= Fy * wk * dt
-                    mv_imp[a, 2] -= Fz * wk * dt
-                    mv_heat[a] -= Q * wk * dt
-            else:
-                la = 0.0
-                lb = 0.0
-                lc = 0.0
+            quad = mt_p6[t, 0] >= 0
+            la = 0.0
+            lb = 0.0
+            lc = 0.0
+            if quad:
                 for c in range(3):
                     wk = wc_w[i, s, c]
                     la += wk * mt_lam[t, c, 0]
                     lb += wk * mt_lam[t, c, 1]
                     lc += wk * mt_lam[t, c, 2]
-                for j in range(6):
+            for j in range(6 if quad else 3):
+                if quad:
                     a = mt_p6[t, j]
                     wk = _p2_weight(j, la, lb, lc)
-                    mv_imp[a, 0] -= Fx * wk * dt
-                    mv_imp[a, 1] -= Fy * wk * dt
-                    mv_imp[a, 2] -= Fz * wk * dt
-                    mv_heat[a] -= Q * wk * dt
+                else:
+                    a = mt[t, j]
+                    wk = wc_w[i, s, j]
+                mv_imp[a, 0] -= Fx * wk * dt
+                mv_imp[a, 1] -= Fy * wk * dt
+                mv_imp[a, 2] -= Fz * wk * dt
+                mv_heat[a] -= Q * wk * dt
             mw_imp_p[wl, 0] += Fx * dt
             mw_imp_p[wl, 1] += Fy * dt
             mw_imp_p[wl, 2] += Fz * dt
@@ -709,7 +698,7 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, *arrays)
     (x, v, w, f, tq, q, radius, mass, inertia, T, mcp_inv, ptype, fixed, ncontact, x0,
      table,
      slab_start, slab_list, nb_start, nb_j, hist, pact,
-     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask, pl_force,
+     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask, pl_force,
      pl_torque, pl_imp, pl_heat,
      mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
      mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
@@ -740,7 +729,7 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, *arrays)
         scan_out[:, 2] = -1.0
         contact_forces(n, dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
                        table, slab_start, slab_list, nb_start, nb_j, hist, pact,
-                       pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
+                       pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask,
                        mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
                        mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
                        wc_f, wc_q, wc_pt, overflow, pl_acc, mode, g[0], g[1], g[2], fixed,
@@ -789,7 +778,7 @@ def compute_forces(g, *arrays):
     (x, v, w, f, tq, q, radius, mass, inertia, T, mcp_inv, ptype, fixed, ncontact, x0,
      table,
      slab_start, slab_list, nb_start, nb_j, hist, pact,
-     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask, pl_force,
+     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask, pl_force,
      pl_torque, pl_imp, pl_heat,
      mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
      mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
@@ -800,7 +789,7 @@ def compute_forces(g, *arrays):
     clear_forces(n, g[0], g[1], g[2], mass, f, tq, q, ncontact)
     contact_forces(n, 0.0, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
                    table, slab_start, slab_list, nb_start, nb_j, hist, pact,
-                   pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask,
+                   pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask,
                    mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
                    mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
                    wc_f, wc_q, wc_pt, overflow, np.zeros((nslab, pl_p.shape[0], 7)), 0,
@@ -815,7 +804,7 @@ def heat_conductance_sum(*arrays):
     (x, v, w, f, tq, q, radius, mass, inertia, T, mcp_inv, ptype, fixed, ncontact, x0,
      table,
      slab_start, slab_list, nb_start, nb_j, hist, pact,
-     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_f, pl_q, pl_mask, pl_force,
+     pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask, pl_force,
      pl_torque, pl_imp, pl_heat,
      mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
      mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,

@@ -76,8 +76,7 @@ _FIELDS = {
     "T": ((), np.float64), "mcp_inv": ((), np.float64), "type": ((), np.int32),
     "fixed": ((), np.uint8), "ncontact": ((), np.int32), "x0": ((3,), np.float64),
     "id": ((), np.int64),
-    "pl_hist": (("npl", 3), np.float64), "pl_f": (("npl", 3), np.float64),
-    "pl_q": (("npl",), np.float64), "pl_mask": ((), np.int64),
+    "pl_hist": (("npl", 3), np.float64), "pl_mask": ((), np.int64),
     "wc_n": ((), np.int32), "wc_tri": (("S",), np.int32), "wc_kind": (("S",), np.int32),
     "wc_fid": (("S",), np.int64), "wc_k": (("S",), np.int64), "wc_w": (("S", 3), np.float64),
     "wc_f": (("S", 3), np.float64), "wc_q": (("S",), np.float64),
@@ -352,7 +351,7 @@ class Simulation:
         a["x0"][s] = x
         ids = np.arange(self._next_id, self._next_id + k, dtype=np.int64)
         a["id"][s] = ids
-        for name in ("pl_hist", "pl_f", "pl_q", "pl_mask", "wc_n", "q", "ncontact"):
+        for name in ("pl_hist", "pl_mask", "wc_n", "q", "ncontact"):
             a[name][s] = 0
         self._next_id += k
         self.n += k
@@ -375,7 +374,7 @@ class Simulation:
 
     # ------------------------------------------------------------------ walls
     def _grow_planes(self):
-        old = {k: self._a[k] for k in ("pl_hist", "pl_f", "pl_q")}
+        old = {k: self._a[k] for k in ("pl_hist",)}
         self._npl += 1
         for name in old:
             trail, dtype = _FIELDS[name]
@@ -627,7 +626,7 @@ class Simulation:
              p("mass"), p("inertia"), p("T"), p("mcp_inv"), p("type"), p("fixed"),
              p("ncontact"), p("x0"), self.table)
         PL = (self._pl_p, self._pl_n, self._pl_v, self._pl_type, self._pl_T, self._pl_hasT,
-              p("pl_hist"), p("pl_f"), p("pl_q"), p("pl_mask"), self._pl_force,
+              p("pl_hist"), p("pl_mask"), self._pl_force,
               self._pl_torque, self._pl_imp, self._pl_heat)
         mc_start, mc_tri, mc_hist = self._mc
         MW = (self._mv_x, self._mv_v, self._mv_T, self._mv_x0, self._mv_wall, self._mt,
