@@ -79,6 +79,7 @@ class SurfaceInterface:
             self.x0 = s.x0.copy()
             self.triangles = s.triangles.copy()
             self.n_midpoints = 0
+            self.midpoint_edges = np.zeros((0, 2), np.int64)
             self._mid = None
         else:
             self._setup_midpoints()
@@ -110,6 +111,8 @@ class SurfaceInterface:
         x_mid = 0.5 * (s.x0[edges[:, 0]] + s.x0[edges[:, 1]])
         self.x0 = np.vstack([s.x0, x_mid])
         self.n_midpoints = ne
+        #: (ne, 2) surface-vertex pairs of the edges, in the order of the midpoint nodes
+        self.midpoint_edges = edges
         # owned P2 dofs at the midpoints (by coordinates)
         imap, bs = compat.dof_index_map(el.V)
         X = el.V.tabulate_dof_coordinates()[: imap.size_local]

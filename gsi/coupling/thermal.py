@@ -174,7 +174,7 @@ class ThermalCoupling:
                 raise GsiInputError(f"coupling.tag = {tag!r}: the mechanical coupling uses "
                                     "another contact surface")
             if itf.n_midpoints:
-                self._prolong = _midpoint_edges(self.surface.triangles)
+                self._prolong = itf.midpoint_edges
             self.wall = mechanics.wall
             if self.is_root:
                 self.wall.vertex_temperature = self._wall_T(self._T_surf)
@@ -346,14 +346,6 @@ def _particle_energy(sim, T_ref):
     T = sim.T
     return (float(np.sum(mcp * (T - T_ref))), float(np.sum(mcp * T) / mcp.sum()),
             float(T.max()))
-
-
-def _midpoint_edges(triangles):
-    """The (sorted) vertex pairs of the unique edges, in the order SurfaceInterface numbers
-    its P2 edge-midpoint nodes (np.unique of the sorted edge pairs)."""
-    tri = np.asarray(triangles)
-    e = np.stack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]], axis=1).reshape(-1, 2)
-    return np.unique(np.sort(e, axis=1), axis=0)
 
 
 def _fmt(v):

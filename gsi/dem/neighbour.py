@@ -4,7 +4,8 @@
   around a particle hold all its possible partners.
 - Half list: pair (i, j) is stored once when |x_i - x_j| < R_i + R_j + skin, by the
   particle in the lower *slab* (slabs: layers at least one cutoff thick along the axis
-  where the particles spread most, see :func:`slab_layout`; ties by the smaller index).  The force kernel then writes
+  where the particles spread most, see :func:`slab_layout`; ties by the smaller
+  index).  The force kernel then writes
   only to its own slab and the next one, so slabs of one parity run in parallel
   without races (see :func:`gsi.dem.engine.contact_forces`).
 - The list is rebuilt when any particle (or wall vertex) has moved more than skin/2

@@ -99,8 +99,7 @@ def test_wall_temperature_is_the_linear_fe_field(run):
     T_vert = T_wall[:nv]
     assert T_vert.max() > T_COLD
     if run.mechanics.interface.n_midpoints:
-        from gsi.coupling.thermal import _midpoint_edges
-        ends = _midpoint_edges(run.surface.triangles)
+        ends = run.mechanics.interface.midpoint_edges
         assert np.array_equal(T_wall[nv:], 0.5 * T_vert[ends].sum(axis=1))
         # the midpoints are where the interface puts them
         x0 = run.mechanics.interface.x0
