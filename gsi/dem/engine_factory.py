@@ -6,7 +6,7 @@ the chosen contact law, rolling law and heat model under the fixed names ``LAW``
 ``ROLL``, ``COND`` and imports it as its own module; its kernels then compile once
 and are cached by numba like any module (``cache=True``).  The copies live in
 ``$GSI_ENGINE_DIR`` (default ``~/.cache/gsi/engines``) and are rewritten only when
-the template or a kernel source it inlines changes (a hash in the header).
+the template or a kernel source it calls changes (a hash in the header).
 """
 import hashlib
 import importlib.util
@@ -32,10 +32,11 @@ def engine_dir():
 
 
 def _sources_digest():
-    """Hash of the files the engine inlines (laws, heat, geometry, tables, JIT flags).
+    """Hash of the files whose kernels the engine calls (laws, heat, geometry, JIT flags).
 
     numba's cache is keyed on the engine file alone; writing this hash into the engine's
-    header makes a change in any inlined law rewrite the engine and so recompile it.
+    header makes a change in any law rewrite the engine and so recompile it (numba's
+    cache of a caller does not follow its callees: their code is linked into it).
     """
     here = pathlib.Path(__file__).parent
     files = sorted((here / "contact").glob("*.py")) + [

@@ -8,7 +8,7 @@ from gsi.jit import njit
 FACE, VA, VB, VC, EAB, EBC, ECA = range(7)
 
 
-@njit(inline="always")
+@njit
 def closest_point_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz):
     """Closest point of triangle (a, b, c) to p, its barycentric weights and region.
 

@@ -15,25 +15,25 @@ from gsi.jit import njit
 from gsi.dem.materials import P_KH, P_HC
 
 
-@njit(inline="always")
+@njit
 def area(a2, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) sqrt(pi a^2) (W/K)."""
     return tab[row, P_KH] * math.sqrt(math.pi * a2) if a2 > 0.0 else 0.0
 
 
-@njit(inline="always")
+@njit
 def radius(a2, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) a (W/K)."""
     return tab[row, P_KH] * math.sqrt(a2) if a2 > 0.0 else 0.0
 
 
-@njit(inline="always")
+@njit
 def constant(a2, tab, row):
     """H = h_c (W/K) for every touching pair."""
     return tab[row, P_HC]
 
 
-@njit(inline="always")
+@njit
 def none(a2, tab, row):
     """No conduction."""
     return 0.0

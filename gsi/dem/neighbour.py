@@ -74,7 +74,7 @@ def bin_cells(n, cell_of, ncell):
     return cell_start, cell_list
 
 
-@njit(inline="always")
+@njit
 def _unravel(c, dims):
     cx = c // (dims[1] * dims[2])
     r = c - cx * dims[1] * dims[2]

@@ -20,7 +20,7 @@ from gsi.dem.materials import P_E, P_G, P_BETA, P_MU, P_ST_SN
 SQRT_5_6 = math.sqrt(5.0 / 6.0)
 
 
-@njit(inline="always")
+@njit
 def hertz(nx, ny, nz, delta, vx, vy, vz, R_eff, m_eff, tab, row, hist, k, dt):
     """Force on particle i of one Hertz–Mindlin contact.
 

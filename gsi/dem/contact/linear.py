@@ -19,7 +19,7 @@ from gsi.dem.materials import P_BETA, P_MU, P_KN
 K_T_OVER_K_N = 2.0 / 7.0
 
 
-@njit(inline="always")
+@njit
 def linear(nx, ny, nz, delta, vx, vy, vz, R_eff, m_eff, tab, row, hist, k, dt):
     """Force on particle i of one linear spring–dashpot contact.
 

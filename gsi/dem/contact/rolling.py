@@ -11,7 +11,7 @@ from gsi.jit import njit
 from gsi.dem.materials import P_MUR
 
 
-@njit(inline="always")
+@njit
 def cdt(wx, wy, wz, R_eff, F_n, tab, row, I_eff, dt):
     """Rolling-resistance torque on particle i (N m).
 
@@ -41,7 +41,7 @@ def cdt(wx, wy, wz, R_eff, F_n, tab, row, I_eff, dt):
     return s * wx, s * wy, s * wz
 
 
-@njit(inline="always")
+@njit
 def no_rolling(wx, wy, wz, R_eff, F_n, tab, row, I_eff, dt):
     """No rolling resistance (zero torque)."""
     return 0.0, 0.0, 0.0

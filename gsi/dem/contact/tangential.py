@@ -10,7 +10,7 @@ import math
 from gsi.jit import njit
 
 
-@njit(inline="always")
+@njit
 def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, hist, k, dt):
     """Tangential force on particle i (N); updates the spring ``hist[k]`` in place.
 
