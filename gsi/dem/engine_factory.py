@@ -32,7 +32,8 @@ def engine_dir():
 
 
 def _sources_digest():
-    """Hash of the files whose kernels the engine calls (laws, heat, geometry, JIT flags).
+    """Hash of the sources the engine is built from or calls (engine template, laws, heat,
+    geometry, material tables, JIT flags).
 
     numba's cache is keyed on the engine file alone; writing this hash into the engine's
     header makes a change in any law rewrite the engine and so recompile it (numba's
