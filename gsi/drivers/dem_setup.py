@@ -99,8 +99,7 @@ def build_simulation(case, *, dt: float | None = None, seed: int | None = None):
         dist = size_distribution(p.size)
         reg = p.region
         region = (insertion.Box(reg.lo, reg.hi) if reg.kind == "box" else
-                  insertion.Cylinder(reg.centre, reg.radius, reg.centre[2],
-                                     reg.centre[2] + reg.height))
+                  insertion.Cylinder(reg.centre, reg.radius, reg.height))
         if p.fill == "stream":
             sim.add_inserter(region, p.rate, radius=dist, material=p.material,
                              velocity=p.velocity, T=p.temperature, max_count=p.count)

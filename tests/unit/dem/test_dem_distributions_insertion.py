@@ -31,7 +31,7 @@ def test_lattice_fill_spacing_and_bounds():
 
 
 @pytest.mark.parametrize("region", [Box((0, 0, 0), (0.02, 0.02, 0.02)),
-                                    Cylinder((0.0, 0.0), 0.01, 0.0, 0.02)])
+                                    Cylinder((0.0, 0.0, 0.0), 0.01, 0.02)])
 def test_random_fill_no_overlap_inside(region):
     rng = np.random.default_rng(1)
     x, r = random_fill(region, Uniform(0.8e-3, 1e-3), volume_fraction=0.15, rng=rng)
