@@ -133,6 +133,8 @@ class Runner:
         self.comm = MPI.COMM_WORLD
         self.root = 0
         self.is_root = self.comm.rank == self.root
+        from gsi.case.case import validated
+        case = validated(case)
         self.case = case.quick_variant() if quick else case
         self.quick = quick
         self.out = _output_dir(out, self.comm)
@@ -230,7 +232,7 @@ class Runner:
                         if not hasattr(h, "triangles"):
                             continue      # planes have no geometry to write
                         stem = w.name if len(self._handles[w.name]) == 1 else f"{w.name}_{j}"
-                        if w.moves():
+                        if w.motion.moves:
                             self._wall_series.append(_Series(
                                 out / "walls", stem,
                                 lambda path, h=h: write_wall_vtu(path, h)))
@@ -263,7 +265,7 @@ class Runner:
             csv.writer(fh).writerow([f"{t:.10g}", *(f"{v:.10g}" if isinstance(v, float) else v
                                                     for v in row)])
 
-    def _output(self, t: float, n_out: int) -> None:
+    def _output(self, t: float, n_out: int, *, last: bool = False) -> None:
         if "structures" in self.case.output.fields:
             for st in self.structures:
                 st.write_output(t)
@@ -273,7 +275,7 @@ class Runner:
             self._pw.write(self.sim)
         for s in self._wall_series:
             s.write(t)
-        if self.pictures and n_out % self.case.output.picture_every == 0:
+        if self.pictures and (n_out % self.case.output.picture_every == 0 or last):
             self._frames.append(self._picture_job(t, len(self._frames)))
 
     def _picture_job(self, t: float, k: int) -> dict:
@@ -293,7 +295,16 @@ class Runner:
             if surf is not None:
                 surfaces.append(surf)
         (self.out / "pictures").mkdir(exist_ok=True)
-        return dict(path=self.out / "pictures" / f"frame_{k:04d}.png", x=sim.x.copy(),
+        camera = None
+        if case.output.view != "iso":
+            lo, hi = np.asarray(case.dem.domain_lo), np.asarray(case.dem.domain_hi)
+            c = 0.5 * (lo + hi)
+            d = np.zeros(3)
+            d["xyz".index(case.output.view[1])] = 1.0 if case.output.view[0] == "+" else -1.0
+            up = (0.0, 0.0, 1.0) if case.output.view[1] != "z" else (0.0, 1.0, 0.0)
+            camera = dict(position=tuple(c - 2.5 * float((hi - lo).max()) * d),
+                          focal_point=tuple(c), up=up)
+        return dict(camera=camera, path=self.out / "pictures" / f"frame_{k:04d}.png", x=sim.x.copy(),
                     radius=sim.radius.copy(), color_by=color, values=values,
                     surfaces=surfaces, title=f"{case.case.name}  t = {t:.3f} s",
                     box=(case.dem.domain_lo, case.dem.domain_hi) if not surfaces else None)
@@ -356,7 +367,7 @@ class Runner:
                         self._sample(m, t)
                 if k % self.every["output"] == 0 or k == self.n_total:
                     n_out += 1
-                    self._output(t, n_out)
+                    self._output(t, n_out, last=k == self.n_total)
                     self._progress(k, wall0)
         finally:
             if self.is_root and self._pw is not None:

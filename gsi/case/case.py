@@ -53,6 +53,8 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from gsi.case.materials import Material, Pair
 from gsi.case.monitors import Monitor
 from gsi.case.settings import CaseInfo, Dem, Output, Run
@@ -62,7 +64,7 @@ from gsi.case.walls import Wall
 from gsi.config.schema import load, param
 from gsi.errors import GsiInputError
 
-__all__ = ["Case", "load_case", "case_from_table", "case_to_table", "merge_tables",
+__all__ = ["Case", "load_case", "case_from_table", "case_to_table", "merge_tables", "validated",
            "DT_WARN", "DT_DEFAULT"]
 
 #: default DEM step as a fraction of the smallest Rayleigh time
@@ -77,16 +79,16 @@ MAX_PARTICLES = 20_000_000
 class Case:
     """A study composed of parts (see the module docstring)."""
 
+    case: CaseInfo = param(default_factory=CaseInfo, doc="the [case] table")
     run: Run = param(doc="the [run] table")
     dem: Dem = param(doc="the [dem] table")
     materials: dict[str, Material] = param(doc="[materials.NAME] tables")
-    output: Output = param(doc="the [output] table")
-    case: CaseInfo = param(default_factory=CaseInfo, doc="the [case] table")
     pairs: list[Pair] = param(default_factory=list, doc="[[pairs]] tables")
     particles: list[ParticleSource] = param(default_factory=list, doc="[[particles]] tables")
     walls: list[Wall] = param(default_factory=list, doc="[[walls]] tables")
     structures: list[Structure] = param(default_factory=list, doc="[[structures]] tables")
     monitors: list[Monitor] = param(default_factory=list, doc="[[monitors]] tables")
+    output: Output = param(doc="the [output] table")
     quick: dict[str, Any] = param(default_factory=dict,
                                   doc="[quick]: keys replacing the case's own with --quick")
     #: directory of the case file: relative paths (mesh and particle files) resolve here
@@ -98,6 +100,10 @@ class Case:
         """Cross-table checks of the schema: names that must exist and be unique."""
         if not self.materials:
             raise GsiInputError("materials: missing; give at least one [materials.NAME] table")
+        for i, p in enumerate(self.particles):     # default names: particles<i>, walls<i>
+            p.name = p.group(i)
+        for i, w in enumerate(self.walls):
+            w.name = w.name if w.name is not None else f"walls{i}"
         known = ", ".join(sorted(self.materials))
         for section in ("particles", "walls"):
             for i, item in enumerate(getattr(self, section)):
@@ -130,10 +136,10 @@ class Case:
         return [s.name for s in self.structures]
 
     def wall_names(self) -> list[str]:
-        return [w.name for w in self.walls if w.name is not None]
+        return [w.name for w in self.walls]
 
     def group_names(self) -> list[str]:
-        return [p.name for p in self.particles if p.name is not None]
+        return [p.name for p in self.particles]
 
     @property
     def thermal(self) -> bool:
@@ -262,6 +268,10 @@ class Case:
 
 # ---------------------------------------------------------------------- TOML <-> Case
 def _to_plain(value):
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
     if dataclasses.is_dataclass(value):
         return {f.name: _to_plain(getattr(value, f.name)) for f in dataclasses.fields(value)
                 if f.init and getattr(value, f.name) is not None}
@@ -291,6 +301,13 @@ def merge_tables(base: dict, over: dict) -> dict:
             out[key] = merged + old[len(value):] + value[len(old):]
         else:
             out[key] = value
+    return out
+
+
+def validated(case: Case) -> Case:
+    """A case built in Python, checked exactly as its TOML twin would be: it goes through
+    the same schema (every field's unit check and every table's ``validate``)."""
+    out = case_from_table(case_to_table(case), base_dir=case.base_dir)
     return out
 
 

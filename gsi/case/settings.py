@@ -92,6 +92,8 @@ class Output:
     picture_every: int = param(1, check=positive(), doc="a picture every this many outputs")
     color_by: str = param("speed", check=one_of("speed", "temperature", "radius"),
                           doc="particle colour in pictures")
+    view: str = param("iso", check=one_of("iso", "+x", "-x", "+y", "-y", "+z", "-z"),
+                      doc="camera of the pictures: isometric, or looking along an axis")
 
     def validate(self, path: str) -> None:
         for f in self.fields:
