@@ -132,6 +132,30 @@ class Heat:
         self.nodal.clear()
 
     @property
+    def fixed_tags(self) -> tuple[str, ...]:
+        """Tags with a fixed temperature (:meth:`fix_temperature`)."""
+        return tuple(self._bc_dofs_by_tag)
+
+    def exchange_tags(self) -> list[str]:
+        """Tags through which heat can cross the boundary: convection (h > 0), a nonzero
+        prescribed flux, or a fixed temperature (the others are insulated)."""
+        return [n for n in self.h if self.h[n] > 0.0 or self.q[n].value != 0.0
+                or n in self._bc_dofs_by_tag]
+
+    def volume(self) -> float:
+        """Volume of the body (m^3) (collective; computed once)."""
+        if getattr(self, "_volume", None) is None:
+            self._volume = compat.assemble_scalar(
+                compat.form(compat.constant(self.mesh, 1.0) * compat.measure("dx", self.mesh)),
+                self.comm)
+        return self._volume
+
+    def mean_temperature(self) -> float:
+        """Volume mean of the temperature, int rho c T dx / (rho c V) (collective)."""
+        m = self.material
+        return self.stored_heat() / (m.rho * m.c * self.volume())
+
+    @property
     def n_factorizations(self) -> int:
         return 0 if self._solver is None else self._solver.n_factorizations
 
