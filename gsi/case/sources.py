@@ -254,10 +254,13 @@ class ParticleSource:
                                     material=self.material, velocity=self.velocity,
                                     T=self.temperature, max_count=self.max_count,
                                     start=self.start)
-        n = self.planned_count() if (self.count or self.volume_fraction) else None
-        if n is not None and n > MAX_PARTICLES:
-            raise GsiInputError(f"{p}count: {n} particles is more than {MAX_PARTICLES:.0e}; "
-                                "lower count/volume_fraction or check the radius units (m)")
+        planned = self.planned_count()
+        if planned > MAX_PARTICLES:
+            key = "volume_fraction" if self.volume_fraction is not None else "count"
+            raise GsiInputError(f"{p}{key}: {planned} particles is more than {MAX_PARTICLES:.0e}; "
+                                "lower it or check the radius units (did you give mm? lengths "
+                                "are in m)")
+        n = planned if (self.count or self.volume_fraction) else None
         if self.fill == "lattice":
             x = insertion.lattice_fill(self.region.shape, self.size.largest)
             x = x[np.lexsort((x[:, 0], x[:, 1], x[:, 2]))]       # bottom layers first

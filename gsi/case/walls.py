@@ -337,6 +337,10 @@ class Wall:
     def __post_init__(self) -> None:
         self._surface = None       # (V, T) of a triangulated wall, built on first use
 
+    def label(self, index: int) -> str:
+        """The wall's name for monitors and output: ``name``, or ``walls<index>``."""
+        return self.name if self.name is not None else f"walls{index}"
+
     # ---- presets
     @classmethod
     def slide_gate(cls, *, material: str, centre, half: float, open_time: float, speed: float,

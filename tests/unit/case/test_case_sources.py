@@ -147,3 +147,14 @@ def test_size_mean_volume_matches_sampling():
                  Size(kind="discrete", values=(1e-3, 2e-3), weights=(3.0, 1.0))):
         r = size.distribution().sample(rng, 400_000)
         assert size.mean_volume() == pytest.approx((4 / 3 * np.pi * r ** 3).mean(), rel=5e-3)
+
+
+def test_absurd_counts_refused_before_allocation():
+    sim = _sim()
+    for kw in (dict(fill="lattice", count=None, size={"kind": "single", "radius": 1e-5}),
+               dict(count=None, volume_fraction=0.2, size={"kind": "single", "radius": 1e-5})):
+        src = _source(**kw)
+        with pytest.raises(GsiInputError, match=r"^particles\[0\]\.(count|volume_fraction): \d+ "
+                                                r"particles is more than 2e\+07"):
+            src.add_to(sim, rng=np.random.default_rng(0))
+    assert sim.n == 0
