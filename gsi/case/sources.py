@@ -256,7 +256,8 @@ class ParticleSource:
                                     start=self.start)
         planned = self.planned_count()
         if planned > MAX_PARTICLES:
-            key = "volume_fraction" if self.volume_fraction is not None else "count"
+            key = ("volume_fraction" if self.volume_fraction is not None else
+                   "count" if self.count is not None else "size")
             raise GsiInputError(f"{p}{key}: {planned} particles is more than {MAX_PARTICLES:.0e}; "
                                 "lower it or check the radius units (did you give mm? lengths "
                                 "are in m)")

@@ -154,7 +154,7 @@ def test_absurd_counts_refused_before_allocation():
     for kw in (dict(fill="lattice", count=None, size={"kind": "single", "radius": 1e-5}),
                dict(count=None, volume_fraction=0.2, size={"kind": "single", "radius": 1e-5})):
         src = _source(**kw)
-        with pytest.raises(GsiInputError, match=r"^particles\[0\]\.(count|volume_fraction): \d+ "
+        with pytest.raises(GsiInputError, match=r"^particles\[0\]\.(size|volume_fraction): \d+ "
                                                 r"particles is more than 2e\+07"):
-            src.add_to(sim, rng=np.random.default_rng(0))
+            src.add_to(sim, rng=np.random.default_rng(0), path="particles[0]")
     assert sim.n == 0
