@@ -326,7 +326,8 @@ class ParticleSource:
                                     f"{MAX_PARTICLES:.0e}); lower rate or set max_count")
             return
         n = self.planned_count()
-        key = "count" if self.count is not None else "volume_fraction"
+        key = ("count" if self.count is not None else
+               "volume_fraction" if self.volume_fraction is not None else "size")
         if n > MAX_PARTICLES:
             raise GsiInputError(f"{p}{key}: {n} particles is more than {MAX_PARTICLES:.0e}; "
                                 "lower it or check the radius units (did you give mm? lengths are in m)")
