@@ -313,7 +313,9 @@ class ParticleSource:
                                None, dlo, dhi)
             return
         self.region.check(f"{p}region", domain_lo=dlo, domain_hi=dhi)
-        size_key = f"{p}size.{ {'single': 'radius', 'uniform': 'max', 'normal': 'mean', 'discrete': 'values'}[self.size.kind]}"
+        largest_key = {"single": "radius", "uniform": "max", "normal": "mean",
+                       "discrete": "values"}[self.size.kind]
+        size_key = f"{p}size.{largest_key}"
         self._check_radius(size_key, self.size.largest, self.region, dlo, dhi)
         if self.fill == "stream":
             if duration is not None and self.start >= duration:

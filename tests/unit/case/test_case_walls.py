@@ -7,7 +7,7 @@ import meshio
 import numpy as np
 import pytest
 
-from gsi.case.walls import Motion, MotionEvent, Wall
+from gsi.case.walls import Motion, MotionEvent, Wall, next_event
 from gsi.config.schema import load
 from gsi.dem import Material, Simulation, shapes
 from gsi.errors import GsiInputError
@@ -24,7 +24,7 @@ def _step_to(sim, t, walls):
     """Advance to time t, stopping at every schedule event to apply the motions (what a
     runner does)."""
     while sim.time < t - 1e-12:
-        t_next = min([t] + [w.motion.next_event(sim.time) for w, _ in walls])
+        t_next = min(t, next_event([w for w, _ in walls], sim.time))
         sim.step(max(1, math.ceil((t_next - sim.time) / sim.dt - 1e-9)))
         for w, handles in walls:
             w.apply_motion(handles, sim.time)
@@ -228,3 +228,19 @@ def test_motion_python_api_matches_toml():
     a = Motion.schedule([dict(t=0.1, velocity=(1.0, 0.0, 0.0)), MotionEvent(t=0.2)])
     b = load(Motion, dict(kind="schedule", events=[dict(t=0.1, velocity=[1, 0, 0]), dict(t=0.2)]))
     assert a == b
+
+
+def test_wall_surfaces_write_and_read_back(tmp_path):
+    from gsi.dem.output import write_surface_vtu
+    funnel = Wall(kind="funnel", material="m", centre=(0, 0, 0.06), outlet_radius=0.01,
+                  top_radius=0.05, length=0.05, spout_length=0.02, facets=16)
+    plane = Wall(kind="plane", material="m", point=(0, 0, 0.01), normal=(0, 0, 1))
+    for i, w in enumerate((funnel, plane)):
+        V, T = w.surface(domain=DOM)
+        write_surface_vtu(tmp_path / f"w{i}.vtu", V, T, point_data={"z": V[:, 2]})
+        m = meshio.read(tmp_path / f"w{i}.vtu")
+        np.testing.assert_array_equal(m.points, V)
+        np.testing.assert_array_equal(m.cells_dict["triangle"], T)
+    V, _ = plane.surface(domain=DOM)
+    assert np.allclose(V[:, 2], 0.01) and np.ptp(V[:, 0]) > 0.2     # a patch across the domain
+    assert funnel.vertices()[:, 2].min() == pytest.approx(0.04)     # spout 2 cm below the outlet
