@@ -243,7 +243,8 @@ class ParticleSource:
         from gsi.dem import insertion
         p = _prefix(path)
         if self.fill == "file":
-            data = read_particle_file(pathlib.Path(base_dir) / self.file, key=f"{p}file")
+            data = read_particle_file(pathlib.Path(base_dir) / self.file, key=f"{p}file",
+                                      shown=self.file)
             v = data["v"] if data["v"] is not None else np.asarray(self.velocity, float)
             T = data["T"] if data["T"] is not None else self.temperature
             return sim.add_particles(data["x"], data["radius"], material=self.material, v=v, T=T)
@@ -253,10 +254,14 @@ class ParticleSource:
                                     material=self.material, velocity=self.velocity,
                                     T=self.temperature, max_count=self.max_count,
                                     start=self.start)
-        n = self.planned_count() if (self.count or self.volume_fraction) else None
-        if n is not None and n > MAX_PARTICLES:
-            raise GsiInputError(f"{p}count: {n} particles is more than {MAX_PARTICLES:.0e}; "
-                                "lower count/volume_fraction or check the radius units (m)")
+        planned = self.planned_count()
+        if planned > MAX_PARTICLES:
+            key = ("volume_fraction" if self.volume_fraction is not None else
+                   "count" if self.count is not None else "size")
+            raise GsiInputError(f"{p}{key}: {planned} particles is more than {MAX_PARTICLES:.0e}; "
+                                "lower it or check the radius units (did you give mm? lengths "
+                                "are in m)")
+        n = planned if (self.count or self.volume_fraction) else None
         if self.fill == "lattice":
             x = insertion.lattice_fill(self.region.shape, self.size.largest)
             x = x[np.lexsort((x[:, 0], x[:, 1], x[:, 2]))]       # bottom layers first
@@ -295,7 +300,8 @@ class ParticleSource:
         p = _prefix(path)
         dlo, dhi = np.asarray(domain_lo, float), np.asarray(domain_hi, float)
         if self.fill == "file":
-            data = read_particle_file(pathlib.Path(base_dir) / self.file, key=f"{p}file")
+            data = read_particle_file(pathlib.Path(base_dir) / self.file, key=f"{p}file",
+                                      shown=self.file)
             out = ((data["x"] - data["radius"][:, None] < dlo) |
                    (data["x"] + data["radius"][:, None] > dhi)).any(1)
             if out.any():
@@ -307,7 +313,9 @@ class ParticleSource:
                                None, dlo, dhi)
             return
         self.region.check(f"{p}region", domain_lo=dlo, domain_hi=dhi)
-        size_key = f"{p}size.{ {'single': 'radius', 'uniform': 'max', 'normal': 'mean', 'discrete': 'values'}[self.size.kind]}"
+        largest_key = {"single": "radius", "uniform": "max", "normal": "mean",
+                       "discrete": "values"}[self.size.kind]
+        size_key = f"{p}size.{largest_key}"
         self._check_radius(size_key, self.size.largest, self.region, dlo, dhi)
         if self.fill == "stream":
             if duration is not None and self.start >= duration:
@@ -320,7 +328,8 @@ class ParticleSource:
                                     f"{MAX_PARTICLES:.0e}); lower rate or set max_count")
             return
         n = self.planned_count()
-        key = "count" if self.count is not None else "volume_fraction"
+        key = ("count" if self.count is not None else
+               "volume_fraction" if self.volume_fraction is not None else "size")
         if n > MAX_PARTICLES:
             raise GsiInputError(f"{p}{key}: {n} particles is more than {MAX_PARTICLES:.0e}; "
                                 "lower it or check the radius units (did you give mm? lengths are in m)")
@@ -349,8 +358,9 @@ class ParticleSource:
                                 f"({dom:g} m); did you give mm? lengths are in m")
 
 
-def read_particle_file(path, *, key: str = "file") -> dict:
-    """Particles of a CSV or VTU file (see the module docstring).
+def read_particle_file(path, *, key: str = "file", shown: str | None = None) -> dict:
+    """Particles of a CSV or VTU file (see the module docstring); errors name ``key`` and
+    the file as ``shown`` (default: ``path``).
 
     Returns
     -------
@@ -358,20 +368,21 @@ def read_particle_file(path, *, key: str = "file") -> dict:
         ``x`` (k, 3) m, ``radius`` (k,) m, ``v`` (k, 3) m/s or None, ``T`` (k,) or None.
     """
     path = pathlib.Path(path)
+    key = f"{key} = '{path if shown is None else shown}'"
     if not path.is_file():
-        raise GsiInputError(f"{key} = '{path}': no such file (looked in {path.parent.resolve()})")
+        raise GsiInputError(f"{key}: no such file (looked in {path.parent.resolve()})")
     suffix = path.suffix.lower()
     if suffix == ".csv":
         out = _read_csv(path, key)
     elif suffix == ".vtu":
         out = _read_vtu(path, key)
     else:
-        raise GsiInputError(f"{key} = '{path}': must end in .csv or .vtu")
+        raise GsiInputError(f"{key}: must end in .csv or .vtu")
     x, r = out["x"], out["radius"]
     if len(x) == 0:
-        raise GsiInputError(f"{key} = '{path}': holds no particles")
+        raise GsiInputError(f"{key}: holds no particles")
     if not (np.isfinite(x).all() and np.isfinite(r).all() and (r > 0).all()):
-        raise GsiInputError(f"{key} = '{path}': positions must be finite and radii > 0 (m)")
+        raise GsiInputError(f"{key}: positions must be finite and radii > 0 (m)")
     return out
 
 
@@ -380,18 +391,18 @@ def _read_csv(path, key) -> dict:
         with open(path, newline="") as fh:
             rows = list(csv.reader(row for row in fh if row.strip() and not row.startswith("#")))
     except (OSError, UnicodeDecodeError) as exc:
-        raise GsiInputError(f"{key} = '{path}': cannot read ({exc})") from None
+        raise GsiInputError(f"{key}: cannot read ({exc})") from None
     if not rows:
-        raise GsiInputError(f"{key} = '{path}': empty; needs a header x,y,z,radius")
+        raise GsiInputError(f"{key}: empty; needs a header x,y,z,radius")
     head = [h.strip() for h in rows[0]]
     missing = [c for c in ("x", "y", "z", "radius") if c not in head]
     if missing:
-        raise GsiInputError(f"{key} = '{path}': header {head} lacks {', '.join(missing)}; "
+        raise GsiInputError(f"{key}: header {head} lacks {', '.join(missing)}; "
                             "columns x,y,z,radius (m) and optional vx,vy,vz,T")
     try:
         data = np.array([[float(v) for v in row] for row in rows[1:]], float).reshape(-1, len(head))
     except ValueError as exc:
-        raise GsiInputError(f"{key} = '{path}': not numbers after the header ({exc})") from None
+        raise GsiInputError(f"{key}: not numbers after the header ({exc})") from None
     col = {h: data[:, i] for i, h in enumerate(head)}
     has_v = all(c in col for c in ("vx", "vy", "vz"))
     return {"x": np.column_stack([col["x"], col["y"], col["z"]]), "radius": col["radius"],
@@ -404,10 +415,10 @@ def _read_vtu(path, key) -> dict:
     try:
         m = meshio.read(path)
     except Exception as exc:      # meshio raises many kinds
-        raise GsiInputError(f"{key} = '{path}': cannot read ({exc})") from None
+        raise GsiInputError(f"{key}: cannot read ({exc})") from None
     pd = m.point_data
     if "radius" not in pd:
-        raise GsiInputError(f"{key} = '{path}': no point data 'radius' (has: "
+        raise GsiInputError(f"{key}: no point data 'radius' (has: "
                             f"{', '.join(pd) or 'none'})")
     T = pd.get("T", pd.get("temperature"))
     v = pd.get("velocity")

@@ -61,7 +61,7 @@ from gsi.case.regions import _prefix
 from gsi.config.schema import nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
-__all__ = ["Motion", "MotionEvent", "Wall", "WALL_KINDS", "MOTION_KINDS", "RPM"]
+__all__ = ["Motion", "MotionEvent", "Wall", "WALL_KINDS", "MOTION_KINDS", "RPM", "next_event"]
 
 Vec3 = tuple[float, ...]
 MOTION_KINDS = ("fixed", "translation", "rotation", "schedule")
@@ -120,7 +120,8 @@ class Motion:
                                    doc="a point of the rotation axis (default: the shape's centre)")
     rpm: Optional[float] = param(None, unit="1/min", doc="rotation speed (revolutions per minute)")
     omega: Optional[float] = param(None, unit="rad/s", doc="rotation speed (not with rpm)")
-    events: Optional[list[MotionEvent]] = param(None, doc="schedule: list of {t, velocity, rpm|omega, axis, centre}")
+    events: Optional[list[MotionEvent]] = param(
+        None, doc="schedule: list of {t, velocity, rpm|omega, axis, centre}")
 
     # ---- construction helpers
     @classmethod
@@ -336,6 +337,10 @@ class Wall:
 
     def __post_init__(self) -> None:
         self._surface = None       # (V, T) of a triangulated wall, built on first use
+
+    def label(self, index: int) -> str:
+        """The wall's name for monitors and output: ``name``, or ``walls<index>``."""
+        return self.name if self.name is not None else f"walls{index}"
 
     # ---- presets
     @classmethod
@@ -572,3 +577,8 @@ class Wall:
             raise GsiInputError(f"{p}{key}: the {self.kind} wall ({np.round(lo, 9).tolist()} to "
                                 f"{np.round(hi, 9).tolist()}) lies wholly outside dem.domain "
                                 f"({dlo.tolist()} to {dhi.tolist()}); move it or check the units (m)")
+
+
+def next_event(walls, t: float) -> float:
+    """The earliest motion event of ``walls`` (Wall objects) after ``t`` (s), or inf."""
+    return min([w.motion.next_event(t) for w in walls], default=math.inf)

@@ -53,12 +53,14 @@ def _rings(centre, axis, radii, offsets, facets) -> np.ndarray:
 
 def _band(k0: int, k1: int, facets: int) -> np.ndarray:
     """Triangles between ring k0 and ring k1 (ring vertex blocks of ``facets``), normals
-    toward the axis when ring k1 lies further along the axis than ring k0."""
+    toward the axis when ring k1 lies further along the axis than ring k0.  Each quad
+    (a, b on ring k0; a', b' above them) is split along a-b' (the split of the hopper
+    driver's cone, so a rebuilt hopper has the same triangles)."""
     i = np.arange(facets)
     a = k0 * facets + i
     b = k0 * facets + (i + 1) % facets
-    return np.vstack([np.c_[a, a + (k1 - k0) * facets, b],
-                      np.c_[b, a + (k1 - k0) * facets, b + (k1 - k0) * facets]])
+    up = (k1 - k0) * facets
+    return np.vstack([np.c_[a, b + up, b], np.c_[a, a + up, b + up]])
 
 
 def _check_facets(facets: int) -> None:
