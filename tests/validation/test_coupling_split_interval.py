@@ -94,3 +94,51 @@ def test_finish_after_the_wrong_number_of_dem_steps_is_refused(runs):
     sim.step(N_SUB - 1)
     with pytest.raises(RuntimeError, match=r"advanced 19 steps .* n_sub = 20"):
         a.finish()
+
+
+def test_thermal_only_contact_split_equals_step_and_keeps_the_heat_balance(tmp_path):
+    """mode = "thermal": heat only, the wall stays at its reference position; the same
+    split/step identity and the heat invariant; the structure's files are written."""
+    table = dict(TABLE, name="hot", scheme="static",
+                 contact=dict(tags=["z1"], mode="thermal", n_sub=N_SUB))
+    out = []
+    for split in (False, True):
+        st = load(Structure, table, "structures[0]")
+        cs = st.build(comm=MPI.COMM_WORLD, dt_dem=DT)
+        assert cs.elasticity is None and cs.mechanics is None
+        ore = {"ore": Material(E=5e7, nu=0.25, rho=3000.0, k=2.0, cp=100.0)}
+        name, wall = st.dem_wall_material(ore)
+        sim = Simulation({**ore, name: wall}, heat="area", gravity=(0, 0, 0), dt=DT,
+                         skin=5e-4, domain=((-0.01, -0.01, -0.01), (L + 0.01, L + 0.01, 0.05)))
+        sim.fix(sim.add_particles([[0.5 * L, 0.5 * L, LZ + R - 4e-5]], R, material="ore",
+                                  T=600.0))
+        cs.attach(sim)
+        if split:
+            cs.open_output(tmp_path)
+        for _ in range(10):
+            if split:
+                cs.begin()
+                sim.step(N_SUB)
+                rec = cs.finish()
+            else:
+                rec = cs.step(sim)
+            assert rec.mechanical is None
+        out.append((cs, sim))
+    (a, sim_a), (b, sim_b) = out
+    assert [_fields(r) for r in a.thermal.records] == [_fields(r) for r in b.thermal.records]
+    assert np.array_equal(a.heat.T.x.array, b.heat.T.x.array)
+    h = b.thermal.history()
+    assert h["Q_particles"].sum() > 0
+    assert np.abs(h["balance_error"]).max() <= 1e-12 * np.abs(h["Q_particles"]).max()
+    assert np.array_equal(b.wall.vertices, b.interface.x0)        # the wall does not move
+    row = b.write_output(b.t)
+    b.close()
+    assert row["T_max"] > 300.0
+    files = b.output_files()
+    assert [f.name for f in files] == ["hot.xdmf", "hot.csv", "hot_energy.csv"]
+    assert all(f.is_file() for f in files)
+    lines = (tmp_path / "hot_energy.csv").read_text().splitlines()
+    assert len(lines) == 11 and lines[0].startswith("step,t,t_thermal,Q_particles")
+    s = b.summary()
+    assert s["intervals"] == 10 and s["Q_particles"] == pytest.approx(h["Q_particles"].sum())
+    assert s["T_mean"] > 300.0 and np.isnan(s["max_displacement"])
