@@ -101,7 +101,7 @@ def _run(args) -> int:
     from gsi.case import load_case
     from gsi.runner import run_case
     case = load_case(args.case)
-    out = pathlib.Path(args.out) if args.out is not None else pathlib.Path("out") / case.case.name
+    out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
     run_case(case, out=out, quick=args.quick, pictures=False if args.no_pictures else None)
     return 0
 

@@ -162,7 +162,8 @@ class Runner:
         """The DEM walls of a ``[[walls]]`` name, or the contact wall(s) of a structure."""
         if name in self._handles:
             return list(self._handles[name])
-        return list(self.structure(name).walls())
+        st = self.structure(name)
+        return [st.wall] if st.wall is not None else []
 
     def group_ids(self, name: str) -> np.ndarray:
         """Ids of the particles of a ``[[particles]]`` source."""
@@ -172,7 +173,8 @@ class Runner:
 
     def heat_capacity(self) -> np.ndarray:
         """m c_p of each particle (J/K), as the DEM integrates it (scaled c_p)."""
-        return self.sim.heat_capacity
+        from gsi.coupling.thermal import particle_heat_capacity
+        return particle_heat_capacity(self.sim)
 
     # ------------------------------------------------------------------ set-up
     def setup(self) -> None:
@@ -190,6 +192,10 @@ class Runner:
                              root=self.root)
             built.attach(self.sim)
             self.structures.append(built)
+        if self.structures:
+            # whole coupling intervals of every structure (an FE step has a fixed dt)
+            L = math.lcm(*(st.n_sub for st in self.structures))
+            self.n_total = max(L, int(round(self.n_total / L)) * L)
         n_out = max(1, int(round(case.output.interval / self.dt)))
         self.every = {"output": n_out}
         for m in case.monitors:
@@ -243,7 +249,7 @@ class Runner:
             (out / "monitors").mkdir(exist_ok=True)
         if "structures" in self.case.output.fields:
             for st in self.structures:
-                self._files += st.open_output(out) or []
+                st.open_output(out)
         self._mon = {}
         for m in self.case.monitors:
             self._mon[m.name] = {"time_s": [], **{c: [] for c in m.columns}}
@@ -290,10 +296,11 @@ class Runner:
                 if hasattr(h, "triangles"):
                     surfaces.append(dict(points=h.vertices, triangles=h.triangles,
                                          opacity=0.3, color="lightsteelblue"))
-        for st in self.structures:
-            surf = st.picture_surface()
-            if surf is not None:
-                surfaces.append(surf)
+        for st in self.structures:       # the DEM wall follows the FE surface
+            x = st.wall.vertices
+            u = np.linalg.norm(x - st.interface.x0, axis=1)
+            surfaces.append(dict(points=x, triangles=st.wall.triangles, values=1e3 * u,
+                                 name=f"{st.name} |u| (mm)", cmap="viridis"))
         (self.out / "pictures").mkdir(exist_ok=True)
         camera = None
         if case.output.view != "iso":
@@ -329,7 +336,7 @@ class Runner:
         self.say(f"{case.case.name}: {self.sim.n if self.sim is not None else '?'} particles, "
                  f"{len(case.walls)} walls, {len(self.structures)} structure(s) "
                  f"{', '.join(f'{s.name} (n_sub {s.n_sub})' for s in self.structures)}; "
-                 f"dt = {self.dt:.3g} s, {self.n_total} steps ({case.run.duration:g} s)"
+                 f"dt = {self.dt:.3g} s, {self.n_total} steps ({self.n_total * self.dt:g} s)"
                  f"{' [quick]' if self.quick else ''} -> {self.out}")
         self._open_outputs()
         n_out = 0
@@ -390,11 +397,13 @@ class Runner:
                 for h in hs:
                     load += h.force
             for st in self.structures:
-                for h in st.walls():
-                    load += h.force
+                if st.wall is not None:
+                    load += st.wall.force
             monitors = {name: {c: np.asarray(v) for c, v in rec.items()}
                         for name, rec in self._mon.items()}
             files = list(self._files)
+            for st in self.structures:
+                files += st.output_files()
             files += self._pictures(monitors)
             res = RunResult(name=case.case.name, time=sim.time, steps=sim.step_count, dt=self.dt,
                             n_particles=int(sim.n), n_lost=int(sim.n_lost),
@@ -513,3 +522,26 @@ def run_case(case, *, out, quick: bool = False, pictures: bool | None = None,
         case = load_case(case)
     return Runner(case, out=out, quick=quick, pictures=pictures, verbose=verbose).run()
 
+
+
+def demo_main(case, *, description: str = "", argv=None) -> RunResult | None:
+    """The command line of a demo script: ``python demos/<name>.py [--quick] [--out DIR]
+    [--no-pictures]``; runs ``case`` and returns its result (None after an error, which is
+    printed as one line, exit status 2 for bad input and 3 for a run that stopped)."""
+    import argparse
+    import sys
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--quick", action="store_true", help="the short form (< 2 minutes)")
+    parser.add_argument("--out", default=None, help="output directory (default out/<name>)")
+    parser.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
+    args = parser.parse_args(argv)
+    out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
+    try:
+        return run_case(case, out=out, quick=args.quick,
+                        pictures=False if args.no_pictures else None)
+    except GsiInputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        sys.exit(2)
+    except GsiRunError as exc:
+        print(f"run stopped: {exc}", file=sys.stderr)
+        sys.exit(3)

@@ -221,8 +221,8 @@ class Case:
         for i, w in enumerate(self.walls):
             w.check(f"walls[{i}]", base_dir=self.base_dir, duration=self.run.duration, **dom)
         for i, st in enumerate(self.structures):
-            st.check(f"structures[{i}]", base_dir=self.base_dir)
-            if st.needs_heat() and not self.thermal:
+            st.check(f"structures[{i}]", base_dir=self.base_dir, materials=self.materials)
+            if st.has_heat and not self.thermal:
                 raise GsiInputError(f"structures[{i}].contact.mode = {st.contact.mode!r}: a "
                                     f"thermal contact needs dem.heat = 'area', 'radius' or "
                                     f"'constant'")
