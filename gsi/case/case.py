@@ -162,19 +162,29 @@ class Case:
         """``{(a, b): {"e": .., ...}}`` for :class:`gsi.dem.Simulation`."""
         return {tuple(p.materials): p.overrides() for p in self.pairs}
 
+    def source_smallest_radius(self, i: int) -> float:
+        """Smallest radius (m) of particle source i (its size table, or its file)."""
+        p = self.particles[i]
+        if p.size is not None:
+            return p.size.smallest
+        from gsi.case.sources import read_particle_file
+        data = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file")
+        return float(data["radius"].min())
+
     def smallest_radius(self) -> float:
-        return min(p.size.smallest for p in self.particles)
+        return min(self.source_smallest_radius(i) for i in range(len(self.particles)))
 
     def rayleigh_times(self) -> list[float]:
         """Rayleigh time t_R (s) of the smallest particle of each source."""
         from gsi.dem.materials import rayleigh_time
         mats = self.dem_materials()
-        return [rayleigh_time(p.size.smallest, mats[p.material]) for p in self.particles]
+        return [rayleigh_time(self.source_smallest_radius(i), mats[p.material])
+                for i, p in enumerate(self.particles)]
 
     def contact_time_linear(self) -> float:
         """Linear law: the shortest pair contact t_c = pi sqrt(m*/k_n), m* = m_min/2 (s)."""
-        m_min = min(self.materials[p.material].rho * 4.0 / 3.0 * math.pi * p.size.smallest ** 3
-                    for p in self.particles)
+        m_min = min(self.materials[p.material].rho * 4.0 / 3.0 * math.pi
+                    * self.source_smallest_radius(i) ** 3 for i, p in enumerate(self.particles))
         return math.pi * math.sqrt(0.5 * m_min / self.dem.k_n)
 
     def time_step(self) -> float:
