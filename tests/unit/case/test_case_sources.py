@@ -26,8 +26,8 @@ def _source(**kw):
 
 def _random_particles(sim, rng):
     ids = _source().add_to(sim, rng=rng)
-    sim._a["v"][:sim.n] = rng.normal(size=(sim.n, 3))     # noqa: distinct velocities to read back
-    sim._a["T"][:sim.n] = rng.uniform(300, 400, sim.n)
+    sim.v[:] = rng.normal(size=(sim.n, 3))      # distinct velocities to read back
+    sim.T[:] = rng.uniform(300, 400, sim.n)
     return ids
 
 
