@@ -156,8 +156,8 @@ class ThermalCoupling:
     n_sub : int
         DEM steps per coupling step when ``mechanics`` is None: heat.dt must equal
         n_sub sim.dt (with ``mechanics``: its n_sub and dt).
-    tag : str
-        Contact surface tag (default "contact").
+    tag : str or sequence of str
+        Contact surface tag(s) (default "contact").
     T_ref : float
         Reference temperature of the stored energies (K).
     time_scale : float
