@@ -53,7 +53,8 @@ def _parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="run a case file")
     r.add_argument("case", help="CASE.toml")
     r.add_argument("--out", default=None, help="output directory (default out/<case name>)")
-    r.add_argument("--quick", action="store_true", help="a short version of the run")
+    r.add_argument("--quick", action="store_true", help="the case's [quick] form (short)")
+    r.add_argument("--no-pictures", action="store_true", help="skip PNG pictures")
     return p
 
 
@@ -75,10 +76,13 @@ def main(argv: list[str] | None = None) -> int:
     except GsiRunError as exc:
         print(f"run stopped: {exc}", file=sys.stderr)
         return EXIT_RUN
+    except KeyboardInterrupt:
+        print("interrupted: the files written so far are complete", file=sys.stderr)
+        return 130
 
 
 def _check(args) -> int:
-    from gsi.config.case import Case, load_case
+    from gsi.case import Case, load_case
     from gsi.config.schema import describe
     if args.keys:
         print("\n".join(describe(Case)))
@@ -86,18 +90,19 @@ def _check(args) -> int:
     if not args.case:
         raise GsiInputError("check: give a case file (gsi check CASE.toml) or --keys")
     case = load_case(args.case)
-    from gsi.drivers import check_case
-    check_case(case)
-    print(f"{args.case}: ok ({case.case.kind} case '{case.case.name}')")
+    dt = case.check()
+    print(f"{args.case}: ok (case '{case.case.name}': {len(case.particles)} particle "
+          f"source(s), {len(case.walls)} wall(s), {len(case.structures)} structure(s), "
+          f"{len(case.monitors)} monitor(s); dt = {dt:.3g} s)")
     return 0
 
 
 def _run(args) -> int:
-    from gsi.config.case import load_case
-    from gsi.drivers import run_case
+    from gsi.case import load_case
+    from gsi.runner import run_case
     case = load_case(args.case)
-    out = pathlib.Path(args.out) if args.out else pathlib.Path("out") / case.case.name
-    run_case(case, out=out, quick=args.quick)
+    out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
+    run_case(case, out=out, quick=args.quick, pictures=False if args.no_pictures else None)
     return 0
 
 

@@ -1,0 +1,547 @@
+"""One runner for every case: the time loop, sub-cycling, outputs, monitors, pictures.
+
+:func:`run_case` (and ``gsi run CASE.toml``) runs any composition of parts
+(:mod:`gsi.case`). The loop counts DEM steps k = 0, 1, ..., N (N = duration/dt); the
+DEM advances in chunks between *events*, each at a whole step:
+
+* a structure's coupling step ends every ``n_sub`` DEM steps (its own n_sub: several
+  structures sub-cycle independently); at the end of each, the structure takes its loads
+  and heat, steps, and hands its moved, heated wall back (``finish``), then opens the
+  next interval (``begin``);
+* a wall motion's schedule event (its time rounded to the nearest step);
+* a monitor sample, every ``interval`` (default the output interval);
+* an output (particles, walls, structures, progress line, pictures) every
+  ``output.interval``;
+* the end.
+
+MPI: the FE structures are distributed over all ranks; the DEM, particle output,
+monitors' DEM values and pictures live on rank 0. Every rank runs the same loop (the
+event steps are known everywhere); an error on the DEM rank is broadcast at the end of
+each chunk, so every rank stops with the same message and none hangs.
+
+Files under ``out``: ``particles.pvd`` (+ ``particles/*.vtu``), ``walls/<name>.vtu``
+(moving walls: ``walls/<name>.pvd`` series), ``<structure>.xdmf`` and its coupling CSVs,
+``monitors/<name>.csv`` (one row per sample, flushed as written), ``monitors.png``,
+``pictures/frame_*.png``, ``<case>.gif`` and ``<case>.png`` (the last frame), and
+``summary.txt`` (the closing summary).
+"""
+from __future__ import annotations
+
+import csv
+import dataclasses
+import math
+import pathlib
+import time
+
+import numpy as np
+
+from gsi import viz  # before dolfinx: pictures render in-process (gsi.viz._preload_vtk)
+from gsi.errors import GsiInputError, GsiRunError
+
+__all__ = ["Runner", "RunResult", "run_case", "build_simulation"]
+
+
+@dataclasses.dataclass
+class RunResult:
+    """What a run measured (SI units)."""
+
+    name: str
+    time: float                 # s, simulated
+    steps: int                  # DEM steps
+    dt: float                   # s, DEM step
+    n_particles: int            # at the end
+    n_lost: int                 # left the domain
+    particle_mass: float        # kg, at the end
+    kinetic_energy: float       # J, at the end
+    wall_load: np.ndarray       # (3,) N: force of the particles on all walls and structures
+    weight: np.ndarray          # (3,) N: m g of all particles
+    monitors: dict              # name -> {"time_s": array, column: array}
+    structures: dict            # name -> summary dict of the structure
+    summary: dict               # the key=value numbers of the last summary line
+    wall_clock: float           # s
+    files: list
+
+
+def build_simulation(case, *, dt: float):
+    """The DEM of a case: materials, walls (with their motions at t = 0) and particles.
+
+    Returns ``(sim, wall_handles, groups)``: ``wall_handles`` maps each ``[[walls]]`` name
+    to the DEM walls it made, ``groups`` each ``[[particles]]`` name to its ids (fills,
+    files) or its inserter (streams).
+    """
+    from gsi.dem.simulation import Simulation
+
+    if case.run.threads:
+        import numba
+        numba.set_num_threads(min(case.run.threads, numba.config.NUMBA_NUM_THREADS))
+    r_min = case.smallest_radius()
+    sim = Simulation(
+        materials=case.dem_materials(), contact=case.dem.contact, k_n=case.dem.k_n,
+        rolling=case.dem.rolling, heat=None if case.dem.heat == "none" else case.dem.heat,
+        h_c=case.dem.h_c, gravity=case.dem.gravity, dt=dt,
+        skin=case.dem.skin if case.dem.skin is not None else 0.4 * r_min,
+        domain=(case.dem.domain_lo, case.dem.domain_hi), force_dt=case.dem.force_dt,
+        pair_overrides=case.pair_overrides(), seed=case.run.seed)
+    handles = {}
+    for i, w in enumerate(case.walls):
+        handles[w.name] = w.add_to(sim, base_dir=case.base_dir, path=f"walls[{i}]")
+        w.apply_motion(handles[w.name], 0.0)
+    rng = np.random.default_rng(case.run.seed)
+    groups = {}
+    for i, p in enumerate(case.particles):
+        groups[p.name] = p.add_to(sim, rng=rng, base_dir=case.base_dir, path=f"particles[{i}]")
+    return sim, handles, groups
+
+
+class _Series:
+    """A ParaView series ``<dir>/<prefix>.pvd`` of files written by ``write(path, t)``."""
+
+    def __init__(self, directory: pathlib.Path, prefix: str, write):
+        from gsi.dem.output import ParticleWriter
+        self._pvd = ParticleWriter.__new__(ParticleWriter)   # its .pvd bookkeeping only
+        self._pvd.dir, self._pvd.prefix, self._pvd.entries = directory, prefix, []
+        self._pvd.pvd = directory / f"{prefix}.pvd"
+        self._write = write
+
+    def write(self, t: float) -> None:
+        name = f"{self._pvd.prefix}_{len(self._pvd.entries):06d}.vtu"
+        self._write(self._pvd.dir / name)
+        self._pvd.entries.append((t, name))
+        self._pvd._write_pvd()
+
+
+class Runner:
+    """Runs one case (see the module docstring).
+
+    Parameters
+    ----------
+    case : gsi.case.Case
+        A validated case (``gsi.case.load_case`` or built in Python).
+    out : path
+        Output directory (created).
+    quick : bool
+        Run the case's ``[quick]`` form.
+    pictures : bool, optional
+        Override ``output.pictures``.
+    verbose : bool
+        Print the set-up, the progress and the summary (rank 0).
+    """
+
+    def __init__(self, case, *, out, quick: bool = False, pictures: bool | None = None,
+                 verbose: bool = True):
+        from mpi4py import MPI
+        self.comm = MPI.COMM_WORLD
+        self.root = 0
+        self.is_root = self.comm.rank == self.root
+        from gsi.case.case import validated
+        case = validated(case)
+        self.case = case.quick_variant() if quick else case
+        self.quick = quick
+        self.out = _output_dir(out, self.comm)
+        self.verbose = verbose and self.is_root
+        self.pictures = (case.output.pictures if pictures is None else pictures) and self.is_root
+        self.sim = None
+        self._handles = {}
+        self._groups = {}
+        self.structures = []
+        self._files = []
+
+    # ------------------------------------------------------------------ queries for parts
+    def say(self, *args, **kw):
+        if self.verbose:
+            print(*args, **kw, flush=True)
+
+    def structure(self, name: str):
+        """The built structure ``name`` (a :class:`gsi.case.structure.CoupledStructure`)."""
+        for st in self.structures:
+            if st.name == name:
+                return st
+        raise GsiInputError(f"structure {name!r}: not in the case")
+
+    def wall_handles(self, name: str) -> list:
+        """The DEM walls of a ``[[walls]]`` name, or the contact wall(s) of a structure."""
+        if name in self._handles:
+            return list(self._handles[name])
+        st = self.structure(name)
+        return [st.wall] if st.wall is not None else []
+
+    def group_ids(self, name: str) -> np.ndarray:
+        """Ids of the particles of a ``[[particles]]`` source."""
+        g = self._groups[name]
+        ids = getattr(g, "ids", g)
+        return np.asarray(ids, np.int64)
+
+    def heat_capacity(self) -> np.ndarray:
+        """m c_p of each particle (J/K), as the DEM integrates it (scaled c_p)."""
+        from gsi.coupling.thermal import particle_heat_capacity
+        return particle_heat_capacity(self.sim)
+
+    # ------------------------------------------------------------------ set-up
+    def setup(self) -> None:
+        case = self.case
+        self.dt = case.check()
+        self.n_total = max(1, int(round(case.run.duration / self.dt)))
+        if self.is_root:
+            self.sim, self._handles, self._groups = build_simulation(case, dt=self.dt)
+        err = self._agree(None)
+        if err:
+            raise err
+        for st in case.structures:
+            built = st.build(comm=self.comm, dt_dem=self.dt, gravity=case.dem.gravity,
+                             base_dir=case.base_dir, heat_scale=case.run.heat_time_scale,
+                             root=self.root)
+            built.attach(self.sim)
+            self.structures.append(built)
+        if self.structures:
+            # whole coupling intervals of every structure (an FE step has a fixed dt)
+            L = math.lcm(*(st.n_sub for st in self.structures))
+            self.n_total = max(L, int(round(self.n_total / L)) * L)
+        n_out = max(1, int(round(case.output.interval / self.dt)))
+        self.every = {"output": n_out}
+        for m in case.monitors:
+            self.every[f"monitor:{m.name}"] = max(1, int(round((m.interval or
+                                                                case.output.interval) / self.dt)))
+        for st in self.structures:
+            self.every[f"structure:{st.name}"] = st.n_sub
+        self.motion_events = {}
+        for w in case.walls:
+            for t in w.motion.event_times():
+                k = int(round(t / self.dt))
+                if 0 < k <= self.n_total:
+                    self.motion_events.setdefault(k, []).append(w)
+
+    def _agree(self, exc):
+        """Broadcast an error raised on the DEM rank so that every rank stops (one message)."""
+        if self.comm.size == 1:
+            return exc
+        payload = (type(exc).__name__, str(exc)) if exc is not None else None
+        payload = self.comm.bcast(payload, root=self.root)
+        if payload is None:
+            return None
+        kind = GsiInputError if payload[0] == "GsiInputError" else GsiRunError
+        return exc if exc is not None else kind(payload[1])
+
+    # ------------------------------------------------------------------ output
+    def _open_outputs(self) -> None:
+        from gsi.dem.output import ParticleWriter, write_wall_vtu
+        out, fields = self.out, self.case.output.fields
+        self._pw = None
+        self._wall_series = []
+        if self.is_root:
+            if "particles" in fields:
+                self._pw = ParticleWriter(out / "particles", "particles")
+                self._files.append(out / "particles" / "particles.pvd")
+            if "walls" in fields:
+                (out / "walls").mkdir(exist_ok=True)
+                for w in self.case.walls:
+                    for j, h in enumerate(self._handles[w.name]):
+                        if not hasattr(h, "triangles"):
+                            continue      # planes have no geometry to write
+                        stem = w.name if len(self._handles[w.name]) == 1 else f"{w.name}_{j}"
+                        if w.motion.moves:
+                            self._wall_series.append(_Series(
+                                out / "walls", stem,
+                                lambda path, h=h: write_wall_vtu(path, h)))
+                            self._files.append(out / "walls" / f"{stem}.pvd")
+                        else:
+                            write_wall_vtu(out / "walls" / f"{stem}.vtu", h)
+                            self._files.append(out / "walls" / f"{stem}.vtu")
+            (out / "monitors").mkdir(exist_ok=True)
+        if "structures" in self.case.output.fields:
+            for st in self.structures:
+                st.open_output(out)
+        self._mon = {}
+        for m in self.case.monitors:
+            self._mon[m.name] = {"time_s": [], **{c: [] for c in m.columns}}
+            if self.is_root:
+                with (out / "monitors" / f"{m.name}.csv").open("w", newline="") as fh:
+                    csv.writer(fh).writerow(["time_s", *m.columns])
+                self._files.append(out / "monitors" / f"{m.name}.csv")
+        self._frames = []
+
+    def _sample(self, m, t: float) -> None:
+        row = m.sample(self)
+        if not self.is_root:
+            return
+        rec = self._mon[m.name]
+        rec["time_s"].append(t)
+        for c, v in zip(m.columns, row):
+            rec[c].append(v)
+        with (self.out / "monitors" / f"{m.name}.csv").open("a", newline="") as fh:
+            csv.writer(fh).writerow([f"{t:.10g}", *(f"{v:.10g}" if isinstance(v, float) else v
+                                                    for v in row)])
+
+    def _output(self, t: float, n_out: int, *, last: bool = False) -> None:
+        if "structures" in self.case.output.fields:
+            for st in self.structures:
+                st.write_output(t)
+        if not self.is_root:
+            return
+        if self._pw is not None:
+            self._pw.write(self.sim)
+        for s in self._wall_series:
+            s.write(t)
+        if self.pictures and (n_out % self.case.output.picture_every == 0 or last):
+            self._frames.append(self._picture_job(t, len(self._frames)))
+
+    def _picture_job(self, t: float, k: int) -> dict:
+        sim, case = self.sim, self.case
+        color = case.output.color_by
+        values = {"speed": lambda: np.linalg.norm(sim.v, axis=1),
+                  "temperature": lambda: sim.T.copy(),
+                  "radius": lambda: sim.radius.copy()}[color]()
+        surfaces = []
+        for w in case.walls:
+            for h in self._handles[w.name]:
+                if hasattr(h, "triangles"):
+                    surfaces.append(dict(points=h.vertices, triangles=h.triangles,
+                                         opacity=0.3, color="lightsteelblue"))
+        for st in self.structures:       # the DEM wall follows the FE surface
+            x = st.wall.vertices
+            u = np.linalg.norm(x - st.interface.x0, axis=1)
+            surfaces.append(dict(points=x, triangles=st.wall.triangles, values=1e3 * u,
+                                 name=f"{st.name} |u| (mm)", cmap="viridis"))
+        (self.out / "pictures").mkdir(exist_ok=True)
+        camera = None
+        if case.output.view != "iso":
+            lo, hi = np.asarray(case.dem.domain_lo), np.asarray(case.dem.domain_hi)
+            c = 0.5 * (lo + hi)
+            d = np.zeros(3)
+            d["xyz".index(case.output.view[1])] = 1.0 if case.output.view[0] == "+" else -1.0
+            up = (0.0, 0.0, 1.0) if case.output.view[1] != "z" else (0.0, 1.0, 0.0)
+            camera = dict(position=tuple(c - 2.5 * float((hi - lo).max()) * d),
+                          focal_point=tuple(c), up=up)
+        return dict(camera=camera, path=self.out / "pictures" / f"frame_{k:04d}.png", x=sim.x.copy(),
+                    radius=sim.radius.copy(), color_by=color, values=values,
+                    surfaces=surfaces, title=f"{case.case.name}  t = {t:.3f} s",
+                    box=(case.dem.domain_lo, case.dem.domain_hi) if not surfaces else None)
+
+    def _progress(self, k: int, wall0: float) -> None:
+        if not (self.verbose and self.case.run.progress):
+            return
+        frac = k / self.n_total
+        el = time.perf_counter() - wall0
+        rate = k * self.dt / el if el > 0 else math.nan
+        eta = el * (1 - frac) / frac if frac > 0 else math.nan
+        bar = "#" * int(20 * frac) + "." * (20 - int(20 * frac))
+        n = self.sim.n if self.sim is not None else 0
+        print(f"  [{bar}] t = {k * self.dt:8.4f} / {self.case.run.duration:g} s  "
+              f"{rate:.3g} s/s  ETA {eta:5.0f} s  particles {n}", flush=True)
+
+    # ------------------------------------------------------------------ the loop
+    def run(self) -> RunResult:
+        wall0 = time.perf_counter()
+        self.setup()
+        case = self.case
+        self.say(f"{case.case.name}: {self.sim.n if self.sim is not None else '?'} particles, "
+                 f"{len(case.walls)} walls, {len(self.structures)} structure(s) "
+                 f"{', '.join(f'{s.name} (n_sub {s.n_sub})' for s in self.structures)}; "
+                 f"dt = {self.dt:.3g} s, {self.n_total} steps ({self.n_total * self.dt:g} s)"
+                 f"{' [quick]' if self.quick else ''} -> {self.out}")
+        self._open_outputs()
+        n_out = 0
+        try:
+            for st in self.structures:
+                st.begin()
+            for m in case.monitors:
+                self._sample(m, 0.0)
+            self._output(0.0, n_out)
+            k = 0
+            while k < self.n_total:
+                nxt = min([self.n_total] + [(k // e + 1) * e for e in self.every.values()]
+                          + [j for j in self.motion_events if j > k])
+                exc = None
+                if self.is_root:
+                    try:
+                        self.sim.step(nxt - k)
+                    except (GsiRunError, GsiInputError) as e:
+                        exc = e
+                err = self._agree(exc)
+                if err:
+                    raise err
+                k = nxt
+                t = k * self.dt
+                for st in self.structures:
+                    if k % st.n_sub == 0:
+                        st.finish()
+                        if k < self.n_total:
+                            st.begin()
+                for w in self.motion_events.get(k, []):
+                    if self.is_root:
+                        w.apply_motion(self._handles[w.name], t)
+                for m in case.monitors:
+                    if k % self.every[f"monitor:{m.name}"] == 0 or k == self.n_total:
+                        self._sample(m, t)
+                if k % self.every["output"] == 0 or k == self.n_total:
+                    n_out += 1
+                    self._output(t, n_out, last=k == self.n_total)
+                    self._progress(k, wall0)
+        finally:
+            if self.is_root and self._pw is not None:
+                self._pw.close()
+            for st in self.structures:
+                st.close()
+        return self._finish(wall0)
+
+    # ------------------------------------------------------------------ results
+    def _finish(self, wall0: float) -> RunResult:
+        case = self.case
+        structures = {st.name: st.summary() for st in self.structures}
+        res = None
+        if self.is_root:
+            sim = self.sim
+            g = np.asarray(case.dem.gravity, float)
+            weight = float(sim.mass.sum()) * g
+            load = np.zeros(3)
+            for hs in self._handles.values():
+                for h in hs:
+                    load += h.force
+            for st in self.structures:
+                if st.wall is not None:
+                    load += st.wall.force
+            monitors = {name: {c: np.asarray(v) for c, v in rec.items()}
+                        for name, rec in self._mon.items()}
+            files = list(self._files)
+            for st in self.structures:
+                files += st.output_files()
+            files += self._pictures(monitors)
+            res = RunResult(name=case.case.name, time=sim.time, steps=sim.step_count, dt=self.dt,
+                            n_particles=int(sim.n), n_lost=int(sim.n_lost),
+                            particle_mass=float(sim.mass.sum()),
+                            kinetic_energy=sim.kinetic_energy(), wall_load=load, weight=weight,
+                            monitors=monitors, structures=structures, summary={},
+                            wall_clock=time.perf_counter() - wall0, files=files)
+            res.summary = self._summary(res)
+        res = self.comm.bcast(res, root=self.root)
+        return res
+
+    def _pictures(self, monitors) -> list:
+        files = []
+        if not self.is_root:
+            return files
+        series = {}
+        for name, rec in monitors.items():
+            for c, v in rec.items():
+                if c != "time_s" and len(v) > 1:
+                    label, _, unit = c.rpartition("_")
+                    series[f"{name}: {label}"] = (rec["time_s"], v, unit)
+        if series:
+            import matplotlib
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+            keys = list(series)[:12]
+            fig, axes = plt.subplots(len(keys), 1, figsize=(7, 1.9 * len(keys)), sharex=True,
+                                     squeeze=False)
+            for ax, key in zip(axes[:, 0], keys):
+                t, v, unit = series[key]
+                ax.plot(t, v, lw=1.4)
+                ax.set_ylabel(f"{key}\n({unit})", fontsize=8)
+                ax.grid(alpha=0.3)
+            axes[-1, 0].set_xlabel("time (s)")
+            axes[0, 0].set_title(f"{self.case.case.name}: monitors")
+            fig.tight_layout()
+            fig.savefig(self.out / "monitors.png", dpi=100)
+            plt.close(fig)
+            files.append(self.out / "monitors.png")
+        if self.pictures and self._frames:
+            paths = [p for p in viz.render_snapshots(self._frames) if p is not None]
+            files += paths
+            if paths:
+                last = self.out / f"{self.case.case.name}.png"
+                last.write_bytes(pathlib.Path(paths[-1]).read_bytes())
+                files.append(last)
+                gif = viz.animation(self.out / f"{self.case.case.name}.gif", paths, fps=6)
+                if gif:
+                    files.append(gif)
+        return files
+
+    def _summary(self, r: RunResult) -> dict:
+        """Print the closing physics summary; return its key=value numbers."""
+        g = np.linalg.norm(r.weight)
+        along = float(r.wall_load @ r.weight / g ** 2) if g > 0 else math.nan
+        lines = [f"summary of {r.name} at t = {r.time:.4g} s ({r.steps} steps of "
+                 f"{r.dt:.3g} s, {r.wall_clock:.1f} s wall):",
+                 f"  particles: {r.n_particles} ({r.particle_mass:.4g} kg), {r.n_lost} lost, "
+                 f"kinetic energy {r.kinetic_energy:.3e} J; walls and structures carry "
+                 f"{100 * along:.2f} % of the particles' weight ({g:.4g} N)"]
+        keys = dict(particles=r.n_particles, lost=r.n_lost, load_ratio=round(along, 5),
+                    ke=float(f"{r.kinetic_energy:.4e}"))
+        for name, rec in r.monitors.items():
+            if len(rec["time_s"]) == 0:
+                continue
+            last = ", ".join(f"{c} {rec[c][-1]:.5g}" for c in rec if c != "time_s")
+            lines.append(f"  monitor {name}: {last}")
+        for name, s in r.structures.items():
+            lines.append(f"  structure {name}: " + ", ".join(
+                f"{k} {v:.5g}" if isinstance(v, float) else f"{k} {v}" for k, v in s.items()))
+            for k, v in s.items():
+                if isinstance(v, (int, float)):
+                    keys[f"{name}.{k}"] = v
+        text = "\n".join(lines)
+        last = " ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
+                        for k, v in keys.items())
+        self.say(text)
+        self.say(last)
+        (self.out / "summary.txt").write_text(text + "\n" + last + "\n")
+        return keys
+
+
+def _output_dir(out, comm) -> pathlib.Path:
+    """Create the output directory (rank 0) or raise a one-line error on every rank."""
+    msg = None
+    if out is None or str(out).strip() == "":
+        msg = "--out = '': give an output directory"
+    else:
+        out = pathlib.Path(out)
+        if comm.rank == 0:
+            try:
+                out.mkdir(parents=True, exist_ok=True)
+                probe = out / f".gsi-write-test-{comm.rank}"
+                probe.write_text("")
+                probe.unlink()
+            except FileExistsError:
+                msg = f"--out = {str(out)!r}: a file of that name exists; give a directory"
+            except NotADirectoryError:
+                msg = f"--out = {str(out)!r}: a parent is a file, not a directory"
+            except PermissionError:
+                msg = f"--out = {str(out)!r}: not writable; choose another directory"
+            except OSError as exc:
+                msg = f"--out = {str(out)!r}: cannot write there ({exc.strerror})"
+    if comm.size > 1:
+        msg = comm.bcast(msg, root=0)
+    if msg:
+        raise GsiInputError(msg)
+    return out
+
+
+def run_case(case, *, out, quick: bool = False, pictures: bool | None = None,
+             verbose: bool = True) -> RunResult:
+    """Run a case (a :class:`gsi.case.Case` or a path to a case file) into ``out``."""
+    if not hasattr(case, "run"):
+        from gsi.case import load_case
+        case = load_case(case)
+    return Runner(case, out=out, quick=quick, pictures=pictures, verbose=verbose).run()
+
+
+
+def demo_main(case, *, description: str = "", argv=None) -> RunResult | None:
+    """The command line of a demo script: ``python demos/<name>.py [--quick] [--out DIR]
+    [--no-pictures]``; runs ``case`` and returns its result (None after an error, which is
+    printed as one line, exit status 2 for bad input and 3 for a run that stopped)."""
+    import argparse
+    import sys
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--quick", action="store_true", help="the short form (< 2 minutes)")
+    parser.add_argument("--out", default=None, help="output directory (default out/<name>)")
+    parser.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
+    args = parser.parse_args(argv)
+    out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
+    try:
+        return run_case(case, out=out, quick=args.quick,
+                        pictures=False if args.no_pictures else None)
+    except GsiInputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        sys.exit(2)
+    except GsiRunError as exc:
+        print(f"run stopped: {exc}", file=sys.stderr)
+        sys.exit(3)
