@@ -259,11 +259,6 @@ class ThermalCoupling:
         surface vertices' and (P2 walls) the midpoints' means. On every rank, no MPI call."""
         return self.interface.wall_temperature(self._T_surf)
 
-    def _wall_T(self, T_surf):
-        """Compatibility for gsi.drivers.thermal_silo (retired by the runner): use
-        :meth:`wall_temperature`."""
-        return self.interface.wall_temperature(T_surf)
-
     def particle_energy(self) -> float:
         """sum m c_p (T - T_ref) over the particles (J), on every rank (collective)."""
         e = None
