@@ -128,8 +128,9 @@ class StructureThermal:
 class Contact:
     """The structure's surface that touches the particles (``[structures.contact]``)."""
 
-    tags: tuple[str, ...] = param(("contact",), doc="surface tags touching the particles "
-                                  "(one wall of all their facets)")
+    tags: list[str] = param(default_factory=lambda: ["contact"],
+                            doc="surface tags touching the particles (one wall of all their "
+                                "facets), e.g. [\"contact\"]")
     mode: str = param("mechanical", check=one_of(*MODES),
                       doc="coupling: mechanical (forces, motion), thermal (heat) or both")
     wall_material: Optional[str] = param(None, doc="[materials.X] of the wall in DEM contacts "
@@ -158,8 +159,9 @@ class Structure:
                                 "(or give file)")
     file: Optional[str] = param(None, doc="user gmsh .geo or .msh with physical groups, "
                                 "relative to the case file (or give mesh)")
-    geometry: dict[str, Any] = param(default_factory=dict, unit="m",
-                                     doc="builder keyword parameters, or .geo DefineConstant overrides")
+    geometry: dict[str, Any] = param(default_factory=dict,
+                                     doc="builder keyword parameters (lengths in m), or .geo "
+                                         "DefineConstant overrides")
     tags: dict[str, str] = param(default_factory=dict,
                                  doc="gsi name -> physical-group name of the mesh, "
                                      "e.g. {support = \"clamped_ends\"}")
