@@ -51,6 +51,8 @@ import pathlib
 from dataclasses import dataclass
 from typing import Any, Optional
 
+import numpy as np
+
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
@@ -162,6 +164,9 @@ class Structure:
     geometry: dict[str, Any] = param(default_factory=dict,
                                      doc="builder keyword parameters (lengths in m), or .geo "
                                          "DefineConstant overrides")
+    translate: Vec3 = param((0.0, 0.0, 0.0), unit="m", length=3,
+                            doc="shift of the mesh after it is built or read (places a shipped "
+                                "builder's body, e.g. a hopper above a membrane)")
     tags: dict[str, str] = param(default_factory=dict,
                                  doc="gsi name -> physical-group name of the mesh, "
                                      "e.g. {support = \"clamped_ends\"}")
@@ -383,6 +388,10 @@ class Structure:
                 raise GsiInputError(f"{self.key}.tags.{k} = '{v}': the mesh already has a "
                                     f"group '{k}'; map another name")
             sm.tags[k] = sm.tags[v]
+        if any(self.translate):
+            from gsi.fem import compat
+            x = compat.geometry_x(sm.mesh)
+            x[:, :3] += np.asarray(self.translate, float)
         return sm
 
     def build(self, *, comm, dt_dem: float, gravity=(0.0, 0.0, -9.81), base_dir=".",
