@@ -89,12 +89,8 @@ def scale_heat_capacity(materials: dict, s: float) -> dict:
 
 
 def particle_heat_capacity(sim) -> np.ndarray:
-    """m c_p of the DEM particles (n,) (J/K): ``sim.heat_capacity`` (1 / the engine's
-    inverse capacity on DEM versions without it)."""
-    mcp = getattr(sim, "heat_capacity", None)
-    if mcp is None:
-        mcp = 1.0 / sim._p("mcp_inv")
-    return np.asarray(mcp, float)
+    """m c_p of the DEM particles (n,) (J/K)."""
+    return np.asarray(sim.heat_capacity, float)
 
 
 @dataclasses.dataclass
