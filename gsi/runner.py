@@ -203,12 +203,14 @@ class Runner:
                                                                 case.output.interval) / self.dt)))
         for st in self.structures:
             self.every[f"structure:{st.name}"] = st.n_sub
+        # a schedule event at time t takes effect at the first step boundary at or after t
+        # (the wall takes the motion state of the event itself, whatever the round-off)
         self.motion_events = {}
         for w in case.walls:
             for t in w.motion.event_times():
-                k = int(round(t / self.dt))
+                k = int(math.ceil(t / self.dt - 1e-9))
                 if 0 < k <= self.n_total:
-                    self.motion_events.setdefault(k, []).append(w)
+                    self.motion_events.setdefault(k, []).append((w, t))
 
     def _agree(self, exc):
         """Broadcast an error raised on the DEM rank so that every rank stops (one message)."""
@@ -366,9 +368,9 @@ class Runner:
                         st.finish()
                         if k < self.n_total:
                             st.begin()
-                for w in self.motion_events.get(k, []):
+                for w, t_event in self.motion_events.get(k, []):
                     if self.is_root:
-                        w.apply_motion(self._handles[w.name], t)
+                        w.apply_motion(self._handles[w.name], t_event)
                 for m in case.monitors:
                     if k % self.every[f"monitor:{m.name}"] == 0 or k == self.n_total:
                         self._sample(m, t)

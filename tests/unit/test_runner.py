@@ -29,8 +29,8 @@ def _case(**kw):
                Wall(name="gate", kind="plate", material="glass", centre=(0.05, 0.05, 0.05),
                     edge_u=(0.02, 0.0, 0.0), edge_v=(0.0, 0.02, 0.0),
                     motion=Motion(kind="schedule", events=[
-                        MotionEvent(t=0.0123, velocity=(1.0, 0.0, 0.0)),
-                        MotionEvent(t=0.0311)]))],
+                        MotionEvent(t=0.01225, velocity=(1.0, 0.0, 0.0)),
+                        MotionEvent(t=0.03105)]))],
         monitors=[Monitor(name="hot", kind="temperature", group="pile"),
                   Monitor(name="low", kind="temperature",
                           region=Region(kind="box", lo=(-0.1, -0.1, -0.1), hi=(0.1, 0.1, 0.0))),
@@ -45,7 +45,8 @@ def test_schedule_events_take_effect_at_their_step(tmp_path):
     runner = Runner(_case(), out=tmp_path, verbose=False)
     res = runner.run()
     gate = runner.wall_handles("gate")[0]
-    # moved at 1 m/s from step 123 to step 311: exactly 0.0188 m
+    # events between steps take effect at the next step boundary: the gate moves at 1 m/s
+    # from step 123 to step 311, exactly 0.0188 m, and then stops
     shift = gate.vertices[:, 0].mean() - 0.05
     assert shift == pytest.approx((311 - 123) * 1.0e-4, abs=1e-12)
     assert res.steps == 500 and res.time == pytest.approx(0.05, abs=1e-15)
