@@ -300,6 +300,11 @@ class Runner:
                                          opacity=0.3, color="lightsteelblue"))
         for st in self.structures:       # the DEM wall follows the FE surface
             x = st.wall.vertices
+            if color == "temperature" and st.wall.vertex_temperature is not None:
+                surfaces.append(dict(points=x, triangles=st.wall.triangles,
+                                     values=st.wall.vertex_temperature, opacity=0.7,
+                                     name=f"{st.name} T (K)", cmap="inferno"))
+                continue
             u = np.linalg.norm(x - st.interface.x0, axis=1)
             surfaces.append(dict(points=x, triangles=st.wall.triangles, values=1e3 * u,
                                  name=f"{st.name} |u| (mm)", cmap="viridis"))
