@@ -268,7 +268,7 @@ class Case:
                                     f"shorter")
         self._check_skin()
         self._check_stiffness()
-        self._check_file_overlaps()
+        self._check_placed_overlaps()
         dt = self.time_step()
         self._check_streams(dt)
         n_steps = self.run.duration / dt
@@ -300,7 +300,7 @@ class Case:
             p.check(f"particles[{i}]", base_dir=self.base_dir, **dom)
         self._check_skin()
         self._check_stiffness()
-        self._check_file_overlaps()
+        self._check_placed_overlaps()
         dt = self.time_step()
         self._check_streams(dt)
         if self.output.interval < dt:
@@ -376,37 +376,46 @@ class Case:
                     f"radius and pass through each other; use E >= {need:.3g} Pa (overlap "
                     f"0.1 r; check the units: Pa)")
 
-    def _check_file_overlaps(self) -> None:
-        """Particles read from files must not overlap one another (within a file and across
-        files) by more than MAX_OVERLAP of the smaller radius: they would fly apart. With
-        ``dem.force_dt`` a warning instead. Overlaps with fills are found when the
-        particles are placed (:meth:`ParticleSource.add_to`)."""
+    def _check_placed_overlaps(self) -> None:
+        """Particles placed at known positions (files, lattice fills) must not overlap one
+        another (within a file, or across sources) by more than MAX_OVERLAP of the smaller
+        radius: they would fly apart. With ``dem.force_dt`` a warning instead. A lattice
+        fill counts with its smallest radius here (its radii are drawn at the run's start,
+        when :meth:`ParticleSource.add_to` checks again); overlaps with random fills
+        (positions drawn at the start) are found there too."""
         from gsi.case.sources import first_overlap, read_particle_file
         seen_x, seen_r, seen_from = [], [], []
         for i, p in enumerate(self.particles):
-            if p.fill != "file":
+            if p.fill == "file":
+                data = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file",
+                                          shown=p.file)
+                x, r = data["x"], data["radius"]
+                key, what = f"particles[{i}].file = '{p.file}'", "row"
+                hit = first_overlap(x, r, MAX_OVERLAP)
+                pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
+            elif p.fill == "lattice":
+                x = p.lattice_sites(f"particles[{i}]")
+                r = np.full(len(x), p.size.smallest)
+                key, what, hit = f"particles[{i}].region", "lattice site", None
+            else:
                 continue
-            data = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file",
-                                      shown=p.file)
-            hit = first_overlap(data["x"], data["radius"], MAX_OVERLAP)
-            pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
             if hit is None and seen_x:
-                hit = first_overlap(data["x"], data["radius"], MAX_OVERLAP,
-                                    other_x=np.concatenate(seen_x), other_r=np.concatenate(seen_r))
+                hit = first_overlap(x, r, MAX_OVERLAP, other_x=np.concatenate(seen_x),
+                                    other_r=np.concatenate(seen_r))
                 if hit is not None:
-                    src, row = seen_from[hit[1]]
-                    pair = f"row {hit[0]} and row {row} of particles[{src}].file"
+                    pair = f"{what} {hit[0]} and {seen_from[hit[1]]}"
             if hit is not None:
-                frac = hit[2]
-                msg = (f"particles[{i}].file = '{p.file}': {pair} overlap by {frac:.3g} x the "
-                       f"smaller radius (more than {MAX_OVERLAP:g}); they would fly apart: "
-                       "separate them or shrink the radii")
+                msg = (f"{key}: {pair} overlap by {hit[2]:.3g} x the smaller radius (more than "
+                       f"{MAX_OVERLAP:g}); they would fly apart: separate them, shrink the "
+                       "radii, or move the region")
                 if not self.dem.force_dt:
                     raise GsiInputError(msg + " (or dem.force_dt = true to run anyway)")
                 warnings.warn(f"dem.force_dt = true: {msg}", stacklevel=3)
-            seen_x.append(data["x"])
-            seen_r.append(data["radius"])
-            seen_from += [(i, row) for row in range(len(data["x"]))]
+            seen_x.append(x)
+            seen_r.append(r)
+            seen_from += ([f"row {k} of particles[{i}].file" for k in range(len(x))]
+                          if p.fill == "file" else
+                          [f"lattice site {k} of particles[{i}]" for k in range(len(x))])
 
     def _check_streams(self, dt: float) -> None:
         """A stream must not be asked for more particles per step (rate x dt) than its
@@ -437,7 +446,7 @@ class Case:
         try:
             return case_from_table(table, base_dir=self.base_dir)
         except GsiInputError as exc:
-            raise GsiInputError(f"[quick] overrides: {exc}") from None
+            raise GsiInputError(f"quick.{exc} (a [quick] override)") from None
 
 
 # ---------------------------------------------------------------------- TOML <-> Case

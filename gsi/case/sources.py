@@ -264,15 +264,7 @@ class ParticleSource:
                                 "are in m)")
         n = planned if (self.count or self.volume_fraction) else None
         if self.fill == "lattice":
-            x = insertion.lattice_fill(self.region.shape, self.size.largest)
-            x = x[np.lexsort((x[:, 0], x[:, 1], x[:, 2]))]       # bottom layers first
-            if n is not None:
-                if n > len(x):
-                    raise GsiInputError(
-                        f"{p}{'count' if self.count else 'volume_fraction'}: {n} particles do not "
-                        f"fit the {len(x)} lattice sites of the region; enlarge the region or "
-                        "ask for fewer")
-                x = x[:n]
+            x = self.lattice_sites(path)
             r = dist.sample(rng, len(x))
             self._refuse_overlap(sim, x, r, f"{p}region")
         else:
@@ -286,6 +278,23 @@ class ParticleSource:
         v = np.broadcast_to(np.asarray(self.velocity, float), (len(x), 3))
         return sim.add_particles(x, r, material=self.material, v=v,
                                  T=np.full(len(x), self.temperature))
+
+    def lattice_sites(self, path: str = "particles") -> np.ndarray:
+        """Centres (k, 3) (m) of a lattice fill: the lowest ``count`` (or
+        ``volume_fraction``) sites, or all (deterministic: no random numbers)."""
+        from gsi.dem import insertion
+        p = _prefix(path)
+        x = insertion.lattice_fill(self.region.shape, self.size.largest)
+        x = x[np.lexsort((x[:, 0], x[:, 1], x[:, 2]))]       # bottom layers first
+        n = self.planned_count() if (self.count or self.volume_fraction) else None
+        if n is not None:
+            if n > len(x):
+                raise GsiInputError(
+                    f"{p}{'count' if self.count else 'volume_fraction'}: {n} particles do not "
+                    f"fit the {len(x)} lattice sites of the region; enlarge the region or "
+                    "ask for fewer")
+            x = x[:n]
+        return x
 
     @staticmethod
     def _refuse_overlap(sim, x, r, key: str) -> None:
