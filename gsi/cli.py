@@ -75,7 +75,13 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 def main(argv: list[str] | None = None) -> int:
     import warnings
     args = _parser().parse_args(argv)
-    warnings.showwarning = _show_warning
+    with warnings.catch_warnings():      # restores the caller's filters and showwarning
+        warnings.simplefilter("ignore", DeprecationWarning)   # libraries' notes to developers
+        warnings.showwarning = _show_warning
+        return _main(args)
+
+
+def _main(args) -> int:
     try:
         if args.command == "info":
             print(info())

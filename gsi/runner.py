@@ -561,8 +561,8 @@ def run_case(case, *, out, quick: bool = False, pictures: bool | None = None,
                       overwrite=overwrite).run()
     except OSError as exc:
         _remove_temporaries(out)
-        where = f" {exc.filename}" if exc.filename else ""
-        raise GsiRunError(f"cannot write{where}: {exc.strerror or exc}; free space (or fix "
+        where = exc.filename or f"under {out}"
+        raise GsiRunError(f"cannot write {where}: {exc.strerror or exc}; free space (or fix "
                           f"the directory) and run again with --overwrite") from None
     except MemoryError:
         raise GsiRunError("out of memory; fewer particles (particles[].count, rate) or a "
