@@ -488,18 +488,22 @@ class Runner:
         return keys
 
 
-#: what a run writes at the top of its output directory (besides <structure>* files):
-#: ``--overwrite`` removes these, and only these
+#: what a run writes in its output directory: these directories (any one of them, or
+#: summary.txt, marks an earlier run) and these top-level files; ``--overwrite`` removes
+#: them and nothing else (a user's own files there stay)
 OUTPUT_DIRS = ("particles", "walls", "monitors", "pictures", "checkpoints")
-OUTPUT_FILES = ("*.xdmf", "*.h5", "*.csv", "*.pvd", "*.vtu", "*.png", "*.gif", "summary.txt")
+OUTPUT_FILES = ("summary.txt", "*.xdmf", "*.h5", "*_coupling.csv", "*_energy.csv",
+                "history.csv", "*.pvd", "*.png", "*.gif")
 
 
 def previous_outputs(out: pathlib.Path) -> list[pathlib.Path]:
-    """The files and directories of an earlier run in ``out`` (see OUTPUT_DIRS, OUTPUT_FILES)."""
-    found = [out / d for d in OUTPUT_DIRS if (out / d).exists()]
-    for pattern in OUTPUT_FILES:
-        found += sorted(f for f in out.glob(pattern) if f.is_file())
-    return found
+    """The files and directories of an earlier run in ``out`` (none if ``out`` holds no
+    OUTPUT_DIRS and no summary.txt: then it is not a run's directory)."""
+    dirs = [out / d for d in OUTPUT_DIRS if (out / d).is_dir()]
+    if not dirs and not (out / "summary.txt").is_file():
+        return []
+    files = sorted({f for pattern in OUTPUT_FILES for f in out.glob(pattern) if f.is_file()})
+    return dirs + files
 
 
 def _output_dir(out, comm, *, overwrite: bool = False) -> pathlib.Path:

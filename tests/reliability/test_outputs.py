@@ -105,17 +105,21 @@ def test_overwrite_removes_only_gsi_outputs(tmp_path):
     for d in ("particles", "walls", "monitors", "pictures"):
         (out / d).mkdir(parents=True)
         (out / d / "x.vtu").write_text("")
-    for f in ("membrane.xdmf", "membrane.h5", "membrane_coupling.csv", "summary.txt",
-              "pour.gif", "pour.png", "case.toml", "data.txt"):
+    for f in ("membrane.xdmf", "membrane.h5", "membrane_coupling.csv", "bin_energy.csv",
+              "summary.txt", "pour.gif", "pour.png", "case.toml", "data.txt", "heap.csv"):
         (out / f).write_text("")
     (out / "data").mkdir()
     (out / "data" / "heap.csv").write_text("")
     with pytest.raises(GsiInputError, match="--overwrite"):
         _output_dir(out, MPI.COMM_WORLD)
     _output_dir(out, MPI.COMM_WORLD, overwrite=True)
-    assert sorted(p.name for p in out.iterdir()) == ["case.toml", "data", "data.txt"]
+    assert sorted(p.name for p in out.iterdir()) == ["case.toml", "data", "data.txt",
+                                                     "heap.csv"]
     assert (out / "data" / "heap.csv").exists()
     _output_dir(out, MPI.COMM_WORLD)                # nothing of a run left: accepted
+    (out / "pour.png").write_text("")               # a user's picture alone: not a run
+    _output_dir(out, MPI.COMM_WORLD)
+    assert (out / "pour.png").exists()
 
 
 def test_full_disk_stops_in_one_line_without_temporary_files(tiny, tmpfs, capsys):
