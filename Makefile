@@ -14,7 +14,7 @@ demo: setup
 	$(MPIENV) $(PY) demos/$(DEMO).py --out $(OUT)/$(DEMO)
 
 test: setup
-	$(MPIENV) $(PY) -m pytest -q -ra --durations=15 tests
+	$(MPIENV) NUMBA_NUM_THREADS=2 $(PY) -m pytest -q -ra --durations=15 tests
 
 test-slow: setup
 	$(MPIENV) $(PY) -m pytest -q -ra -m slow tests

@@ -51,6 +51,8 @@ import pathlib
 from dataclasses import dataclass
 from typing import Any, Optional
 
+import numpy as np
+
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
@@ -154,8 +156,9 @@ class StructureThermal:
 class Contact:
     """The structure's surface that touches the particles (``[structures.contact]``)."""
 
-    tags: tuple[str, ...] = param(("contact",), doc="surface tags touching the particles "
-                                  "(one wall of all their facets)")
+    tags: list[str] = param(default_factory=lambda: ["contact"],
+                            doc="surface tags touching the particles (one wall of all their "
+                                "facets), e.g. [\"contact\"]")
     mode: str = param("mechanical", check=one_of(*MODES),
                       doc="coupling: mechanical (forces, motion), thermal (heat) or both")
     wall_material: Optional[str] = param(None, doc="[materials.X] of the wall in DEM contacts "
@@ -184,8 +187,12 @@ class Structure:
                                 "(or give file)")
     file: Optional[str] = param(None, doc="user gmsh .geo or .msh with physical groups, "
                                 "relative to the case file (or give mesh)")
-    geometry: dict[str, Any] = param(default_factory=dict, unit="m",
-                                     doc="builder keyword parameters, or .geo DefineConstant overrides")
+    geometry: dict[str, Any] = param(default_factory=dict,
+                                     doc="builder keyword parameters (lengths in m), or .geo "
+                                         "DefineConstant overrides")
+    translate: Vec3 = param((0.0, 0.0, 0.0), unit="m", length=3,
+                            doc="shift of the mesh after it is built or read (places a shipped "
+                                "builder's body, e.g. a hopper above a membrane)")
     tags: dict[str, str] = param(default_factory=dict,
                                  doc="gsi name -> physical-group name of the mesh, "
                                      "e.g. {support = \"clamped_ends\"}")
@@ -412,6 +419,10 @@ class Structure:
                 raise GsiInputError(f"{self.key}.tags.{k} = '{v}': the mesh already has a "
                                     f"group '{k}'; map another name")
             sm.tags[k] = sm.tags[v]
+        if any(self.translate):
+            from gsi.fem import compat
+            x = compat.geometry_x(sm.mesh)
+            x[:, :3] += np.asarray(self.translate, float)
         return sm
 
     def build(self, *, comm, dt_dem: float, gravity=(0.0, 0.0, -9.81), base_dir=".",

@@ -157,8 +157,8 @@ class StaggeredCoupling:
         DEM material of the wall (its E, nu, e, mu enter the particle-wall contact law).
     n_sub : int
         DEM steps per coupling step (see :func:`choose_n_sub`).
-    tag : str
-        Contact surface name (default "contact").
+    tag : str or sequence of str
+        Contact surface tag(s) (default "contact"; several make one surface).
     relaxation : float
         Quasi-static only: u_k+1 = (1 - r) u_k + r K^-1 P_k with 0 < r <= 1 (default 1).
         The staggered fixed point diverges when the contact stiffness of the particles

@@ -89,12 +89,8 @@ def scale_heat_capacity(materials: dict, s: float) -> dict:
 
 
 def particle_heat_capacity(sim) -> np.ndarray:
-    """m c_p of the DEM particles (n,) (J/K): ``sim.heat_capacity`` (1 / the engine's
-    inverse capacity on DEM versions without it)."""
-    mcp = getattr(sim, "heat_capacity", None)
-    if mcp is None:
-        mcp = 1.0 / sim._p("mcp_inv")
-    return np.asarray(mcp, float)
+    """m c_p of the DEM particles (n,) (J/K)."""
+    return np.asarray(sim.heat_capacity, float)
 
 
 @dataclasses.dataclass
@@ -156,8 +152,8 @@ class ThermalCoupling:
     n_sub : int
         DEM steps per coupling step when ``mechanics`` is None: heat.dt must equal
         n_sub sim.dt (with ``mechanics``: its n_sub and dt).
-    tag : str
-        Contact surface tag (default "contact").
+    tag : str or sequence of str
+        Contact surface tag(s) (default "contact").
     T_ref : float
         Reference temperature of the stored energies (K).
     time_scale : float
@@ -258,11 +254,6 @@ class ThermalCoupling:
         """Temperature the DEM wall takes at the next :meth:`begin` (n_nodes,) (K): the
         surface vertices' and (P2 walls) the midpoints' means. On every rank, no MPI call."""
         return self.interface.wall_temperature(self._T_surf)
-
-    def _wall_T(self, T_surf):
-        """Compatibility for gsi.drivers.thermal_silo (retired by the runner): use
-        :meth:`wall_temperature`."""
-        return self.interface.wall_temperature(T_surf)
 
     def particle_energy(self) -> float:
         """sum m c_p (T - T_ref) over the particles (J), on every rank (collective)."""

@@ -17,7 +17,6 @@ its own: ``python -m gsi.coupling.validation`` prints the key numbers.
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from mpi4py import MPI

@@ -36,6 +36,23 @@ Choices made here (DESIGN.md is silent):
 - Particles can be held in place: ``sim.fix(ids)`` (they feel forces, exchange heat,
   but do not move).
 
+State (for checkpoints, tests and new kernels; :mod:`gsi.dem.state`): five bundles,
+named tuples of numpy arrays that every compiled kernel takes as one argument each:
+
+- ``sim.particles`` (:data:`~gsi.dem.state.Particles`): per-particle arrays (x, v,
+  omega, force, torque, q, radius, mass, inertia, T, mcp_inv, type, fixed, ncontact,
+  x0, id), views of the first n rows;
+- ``sim.wall_contacts`` (:data:`~gsi.dem.state.WallContacts`): per-particle plane
+  springs and the triangle-contact slots;
+- ``sim.pairs`` (:data:`~gsi.dem.state.Pairs`): slabs, the half neighbour list with
+  its tangential springs and contact flags, triangle candidates with their springs;
+- ``sim.plane_state`` (:data:`~gsi.dem.state.Planes`) and ``sim.mesh_state``
+  (:data:`~gsi.dem.state.Mesh`): the walls (read and written by :class:`PlaneWall`
+  and :class:`MeshWall`).
+
+Also ``sim.heat_capacity`` (m c_p per particle, J/K), ``sim.material_names`` and
+``sim.material_index(name)``.
+
 How it runs (for speed, see ``benchmarks/settle.py``):
 
 - The contact law, rolling law and heat model are compiled into one engine module per
@@ -64,25 +81,9 @@ from gsi.dem.materials import Material, pair_table, rayleigh_time
 from gsi.dem.engine_factory import get_engine
 from gsi.dem import neighbour as nbr
 from gsi.dem.walls import PlaneWall, MeshWall, triangle_edges, _vec3
-
-MAX_WALL_SLOTS = 8
-
-# per-particle arrays: name -> (trailing shape, dtype); "npl" and "S" are filled in
-_FIELDS = {
-    "x": ((3,), np.float64), "v": ((3,), np.float64), "omega": ((3,), np.float64),
-    "force": ((3,), np.float64), "torque": ((3,), np.float64),
-    "radius": ((), np.float64), "mass": ((), np.float64), "inertia": ((), np.float64),
-    "q": ((), np.float64),
-    "T": ((), np.float64), "mcp_inv": ((), np.float64), "type": ((), np.int32),
-    "fixed": ((), np.uint8), "ncontact": ((), np.int32), "x0": ((3,), np.float64),
-    "id": ((), np.int64),
-    "pl_hist": (("npl", 3), np.float64), "pl_mask": ((), np.int64),
-    "wc_n": ((), np.int32), "wc_tri": (("S",), np.int32), "wc_kind": (("S",), np.int32),
-    "wc_fid": (("S",), np.int64), "wc_k": (("S",), np.int64), "wc_w": (("S", 3), np.float64),
-    "wc_f": (("S", 3), np.float64), "wc_q": (("S",), np.float64),
-    "wc_pt": (("S", 3), np.float64),
-}
-
+from gsi.dem.state import (MAX_WALL_SLOTS, PARTICLE_FIELDS, WALL_CONTACT_FIELDS, Particles,
+                           WallContacts, Pairs, append_plane, bundle_bytes, empty_mesh,
+                           empty_pairs, empty_planes, mesh_bundle)
 
 class Simulation:
     """A DEM simulation (see the module docstring for the shape of the API).
@@ -175,64 +176,85 @@ class Simulation:
         self._next_id = 0
         self._npl = 0
         self._S = 0
-        self._a = {}
+        self._pa = {}                   # particle fields at capacity (PARTICLE_FIELDS)
+        self._wa = {}                   # wall-contact fields at capacity (WALL_CONTACT_FIELDS)
         self._alloc(16)
-        # planes
         self.planes = []
-        self._pl_p = np.zeros((0, 3))
-        self._pl_n = np.zeros((0, 3))
-        self._pl_v = np.zeros((0, 3))
-        self._pl_type = np.zeros(0, np.int32)
-        self._pl_T = np.zeros(0)
-        self._pl_hasT = np.zeros(0, np.uint8)
-        self._pl_force = np.zeros((0, 3))
-        self._pl_torque = np.zeros((0, 3))
-        self._pl_imp = np.zeros((0, 3))
-        self._pl_heat = np.zeros(0)
-        # meshes
+        self.plane_state = empty_planes()
         self.mesh_walls = []
-        self._mesh_arrays(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int32),
-                          np.zeros((0, 3), np.int32), np.zeros(0, np.int32),
-                          np.zeros((0, 6), np.int32), np.zeros((0, 3, 3)))
-        self._mw_type = np.zeros(0, np.int32)
-        self._mw_hasT = np.zeros(0, np.uint8)
-        self._mw_rigid = np.zeros(0, np.uint8)
-        self._mw_vel = np.zeros((0, 3))
-        self._mw_omega = np.zeros((0, 3))
-        self._mw_centre = np.zeros((0, 3))
-        self._mw_force = np.zeros((0, 3))
-        self._mw_torque = np.zeros((0, 3))
-        self._mw_imp_p = np.zeros((0, 3))
-        self._mw_heat_p = np.zeros(0)
+        self.mesh_state = empty_mesh()
         self._overflow = np.zeros(1, np.int64)
+        self.pairs = empty_pairs(0)
         self.inserters = []
         self._need_rebuild = True
         self._forces_valid = False
         self._dt_checked = False
         self.n_rebuilds = 0
         self._heat_warned = False
-        self._nb = None
-        self._mc = None
+        self._built = False
 
     # ------------------------------------------------------------------ storage
     def _shape(self, cap, trail):
         return (cap,) + tuple({"npl": self._npl, "S": self._S}.get(t, t) for t in trail)
 
     def _alloc(self, cap):
-        new = {}
-        for name, (trail, dtype) in _FIELDS.items():
-            arr = np.zeros(self._shape(cap, trail), dtype)
-            old = self._a.get(name)
-            if old is not None and self.n:
-                src = old[: self.n]
-                sl = tuple(slice(0, min(a, b)) for a, b in zip(src.shape, arr.shape))
-                arr[sl] = src[sl]
-            new[name] = arr
-        self._a = new
+        for store, fields in ((self._pa, PARTICLE_FIELDS), (self._wa, WALL_CONTACT_FIELDS)):
+            for name, (trail, dtype) in fields.items():
+                arr = np.zeros(self._shape(cap, trail), dtype)
+                old = store.get(name)
+                if old is not None and self.n:
+                    src = old[: self.n]
+                    sl = tuple(slice(0, min(a, b)) for a, b in zip(src.shape, arr.shape))
+                    arr[sl] = src[sl]
+                store[name] = arr
         self._cap = cap
 
+    def _realloc_field(self, name):
+        """Re-shape one wall-contact field after the plane count or slot count changed
+        (existing entries kept where they fit)."""
+        trail, dtype = WALL_CONTACT_FIELDS[name]
+        arr = np.zeros(self._shape(self._cap, trail), dtype)
+        old = self._wa[name]
+        sl = tuple(slice(0, min(a, b)) for a, b in zip(old.shape, arr.shape))
+        arr[sl] = old[sl]
+        self._wa[name] = arr
+
     def _p(self, name):
-        return self._a[name][: self.n]
+        return self._pa[name][: self.n]
+
+    # ------------------------------------------------------------------ state bundles
+    @property
+    def particles(self):
+        """Per-particle state (:data:`gsi.dem.state.Particles`): views of the first n
+        rows of every field of :data:`gsi.dem.state.PARTICLE_FIELDS`."""
+        n = self.n
+        return Particles(*[self._pa[k][:n] for k in PARTICLE_FIELDS])
+
+    @property
+    def wall_contacts(self):
+        """Per-particle wall contacts (:data:`gsi.dem.state.WallContacts`): plane springs
+        and contact flags, the triangle-contact slots; views of the first n rows."""
+        n = self.n
+        return WallContacts(*[self._wa[k][:n] for k in WALL_CONTACT_FIELDS], self._overflow)
+
+    def _bundles(self):
+        """The engine's state arguments ``(P, pairs, pl, M, wc)``."""
+        return (self.particles, self.pairs, self.plane_state, self.mesh_state,
+                self.wall_contacts)
+
+    @property
+    def material_names(self):
+        """Material names in index order (the particle ``type`` and pair-table rows)."""
+        return list(self._mat_names)
+
+    def material_index(self, name):
+        """Index of material ``name`` (its value in ``sim.type``)."""
+        return self._material(name, "material")
+
+    @property
+    def heat_capacity(self):
+        """Heat capacity m c_p of each particle (n,) (J/K), a new array."""
+        return 1.0 / self._p("mcp_inv")
 
     @property
     def x(self):
@@ -334,7 +356,7 @@ class Simulation:
         if self.n + k > self._cap:
             self._alloc(max(2 * self._cap, self.n + k))
         s = slice(self.n, self.n + k)
-        a = self._a
+        a = self._pa
         a["x"][s] = x
         a["v"][s] = 0.0 if v is None else np.broadcast_to(np.asarray(v, float), (k, 3))
         a["omega"][s] = 0.0 if omega is None else np.broadcast_to(np.asarray(omega, float), (k, 3))
@@ -351,8 +373,10 @@ class Simulation:
         a["x0"][s] = x
         ids = np.arange(self._next_id, self._next_id + k, dtype=np.int64)
         a["id"][s] = ids
-        for name in ("pl_hist", "pl_mask", "wc_n", "q", "ncontact"):
+        for name in ("q", "ncontact"):
             a[name][s] = 0
+        for arr in self._wa.values():
+            arr[s] = 0
         self._next_id += k
         self.n += k
         self._need_rebuild = True
@@ -362,26 +386,18 @@ class Simulation:
 
     def fix(self, ids, fixed=True):
         """Hold particles in place (they still feel forces and exchange heat)."""
-        self._a["fixed"][self.index(ids)] = 1 if fixed else 0
+        self._pa["fixed"][self.index(ids)] = 1 if fixed else 0
 
     def _delete(self, mask):
         keep = ~mask
         nk = int(keep.sum())
-        for name, arr in self._a.items():
-            arr[:nk] = arr[: self.n][keep]
+        for store in (self._pa, self._wa):
+            for arr in store.values():
+                arr[:nk] = arr[: self.n][keep]
         self.n = nk
         self._need_rebuild = True
 
     # ------------------------------------------------------------------ walls
-    def _grow_planes(self):
-        old = {k: self._a[k] for k in ("pl_hist",)}
-        self._npl += 1
-        for name in old:
-            trail, dtype = _FIELDS[name]
-            arr = np.zeros(self._shape(self._cap, trail), dtype)
-            arr[:, : self._npl - 1] = old[name]
-            self._a[name] = arr
-
     def add_plane(self, point, normal, *, material, temperature=None, velocity=(0.0, 0.0, 0.0)):
         """Add an infinite plane through ``point`` (m) with unit ``normal`` into the domain.
 
@@ -397,36 +413,15 @@ class Simulation:
         t = self._material(material, "plane.material")
         if self._npl >= 63:
             raise GsiInputError("planes: at most 63 plane walls; use a mesh wall for more")
-        self._grow_planes()
-        self._pl_p = np.vstack([self._pl_p, p])
-        self._pl_n = np.vstack([self._pl_n, nrm / ln])
-        self._pl_v = np.vstack([self._pl_v, _vec3(velocity, "plane.velocity")])
-        self._pl_type = np.append(self._pl_type, np.int32(t)).astype(np.int32)
-        self._pl_T = np.append(self._pl_T, 0.0 if temperature is None else float(temperature))
-        self._pl_hasT = np.append(self._pl_hasT, np.uint8(temperature is not None)).astype(np.uint8)
-        self._pl_force = np.vstack([self._pl_force, np.zeros(3)])
-        self._pl_torque = np.vstack([self._pl_torque, np.zeros(3)])
-        self._pl_imp = np.vstack([self._pl_imp, np.zeros(3)])
-        self._pl_heat = np.append(self._pl_heat, 0.0)
+        vel = _vec3(velocity, "plane.velocity")
+        self._npl += 1
+        self._realloc_field("plane_hist")
+        self.plane_state = append_plane(self.plane_state, p, nrm / ln, vel, t,
+                                        None if temperature is None else float(temperature))
         wall = PlaneWall(self, len(self.planes), material)
         self.planes.append(wall)
         self._forces_valid = False
         return wall
-
-    def _mesh_arrays(self, x, v, T, wall_of_v, tri, wall_of_t, p6, lam):
-        self._mv_x = np.ascontiguousarray(x, float)
-        self._mv_v = np.ascontiguousarray(v, float)
-        self._mv_T = np.ascontiguousarray(T, float)
-        self._mv_x0 = self._mv_x.copy()
-        self._mv_wall = np.ascontiguousarray(wall_of_v, np.int32)
-        self._mt = np.ascontiguousarray(tri, np.int32)
-        self._mt_wall = np.ascontiguousarray(wall_of_t, np.int32)
-        self._mt_edge = (triangle_edges(tri) if len(tri) else np.zeros((0, 3), np.int64))
-        self._mt_p6 = np.ascontiguousarray(p6, np.int32)
-        self._mt_lam = np.ascontiguousarray(lam, float)
-        self._mt_force = np.zeros((len(tri), 3))
-        self._mv_imp = np.zeros((len(x), 3))
-        self._mv_heat = np.zeros(len(x))
 
     def add_mesh_wall(self, vertices, triangles=None, *, material=None, vertex_temperature=None):
         """Add a triangle-mesh wall (arrays, or a :class:`MeshWall`).
@@ -440,30 +435,30 @@ class Simulation:
         t = self._material(wall.material, "mesh_wall.material")
         if not self.mesh_walls:
             self._S = MAX_WALL_SLOTS
-            for name in ("wc_tri", "wc_kind", "wc_fid", "wc_k", "wc_w", "wc_f", "wc_q", "wc_pt"):
-                trail, dtype = _FIELDS[name]
-                self._a[name] = np.zeros(self._shape(self._cap, trail), dtype)
-        v0, t0 = len(self._mv_x), len(self._mt)
+            for name, (trail, _) in WALL_CONTACT_FIELDS.items():
+                if "S" in trail:
+                    self._realloc_field(name)
+        M = self.mesh_state
+        v0, t0 = len(M.x), len(M.tri)
         widx = len(self.mesh_walls)
         nv = wall.n_vertices
         T = np.zeros(nv) if wall._T0 is None else np.broadcast_to(wall._T0, (nv,))
-        imp, heat = self._mv_imp, self._mv_heat
-        self._mesh_arrays(
-            np.vstack([self._mv_x, wall._x]), np.vstack([self._mv_v, np.zeros((nv, 3))]),
-            np.concatenate([self._mv_T, T]),
-            np.concatenate([self._mv_wall, np.full(nv, widx)]),
-            np.vstack([self._mt, wall._t + v0]),
-            np.concatenate([self._mt_wall, np.full(len(wall._t), widx)]),
-            np.vstack([self._mt_p6, np.where(wall._p6 >= 0, wall._p6 + v0, -1)]),
-            np.concatenate([self._mt_lam, wall._lam]))
-        self._mv_imp[:v0] = imp
-        self._mv_heat[:v0] = heat
-        self._mw_type = np.append(self._mw_type, np.int32(t)).astype(np.int32)
-        self._mw_hasT = np.append(self._mw_hasT, np.uint8(wall._T0 is not None)).astype(np.uint8)
-        self._mw_rigid = np.append(self._mw_rigid, np.uint8(0)).astype(np.uint8)
-        for name in ("_mw_vel", "_mw_omega", "_mw_centre", "_mw_force", "_mw_torque", "_mw_imp_p"):
-            setattr(self, name, np.vstack([getattr(self, name), np.zeros(3)]))
-        self._mw_heat_p = np.append(self._mw_heat_p, 0.0)
+        tri = np.vstack([M.tri, wall._t + v0])
+        walls = (np.append(M.wall_type, t), np.append(M.wall_has_T, wall._T0 is not None),
+                 np.append(M.wall_rigid, 0), np.vstack([M.wall_velocity, np.zeros(3)]),
+                 np.vstack([M.wall_omega, np.zeros(3)]), np.vstack([M.wall_centre, np.zeros(3)]),
+                 np.vstack([M.wall_force, np.zeros(3)]), np.vstack([M.wall_torque, np.zeros(3)]),
+                 np.vstack([M.wall_impulse, np.zeros(3)]), np.append(M.wall_heat, 0.0))
+        walls = tuple(np.ascontiguousarray(a, b.dtype) for a, b in zip(walls, M[13:]))
+        new = mesh_bundle(
+            np.vstack([M.x, wall._x]), np.vstack([M.v, np.zeros((nv, 3))]),
+            np.concatenate([M.T, T]), np.concatenate([M.vertex_wall, np.full(nv, widx)]),
+            tri, triangle_edges(tri), np.concatenate([M.tri_wall, np.full(len(wall._t), widx)]),
+            np.vstack([M.tri_p6, np.where(wall._p6 >= 0, wall._p6 + v0, -1)]),
+            np.concatenate([M.tri_lam, wall._lam]), walls)
+        new.vertex_impulse[:v0] = M.vertex_impulse
+        new.vertex_heat[:v0] = M.vertex_heat
+        self.mesh_state = new
         wall._attach(self, widx, v0, t0)
         self.mesh_walls.append(wall)
         self._need_rebuild = True
@@ -476,8 +471,9 @@ class Simulation:
                                                      vertex_temperature=vertex_temperature))
 
     def _wall_moved(self):
-        if len(self._mv_x):
-            d2 = ((self._mv_x - self._mv_x0) ** 2).sum(1).max()
+        M = self.mesh_state
+        if len(M.x):
+            d2 = ((M.x - M.x0) ** 2).sum(1).max()
             if d2 > (0.5 * self.skin) ** 2:
                 self._need_rebuild = True
         self._forces_valid = False
@@ -531,7 +527,7 @@ class Simulation:
         if self.heat is None or self.n == 0:
             return 0.0
         self._ensure_lists()
-        Hs = self.engine.heat_conductance_sum(*self._args())
+        Hs = self.engine.heat_conductance_sum(*self._bundles(), self.table)
         return float((self.dt * Hs * self._p("mcp_inv")).max())
 
     def _check_heat(self):
@@ -548,14 +544,13 @@ class Simulation:
 
     # ------------------------------------------------------------------ neighbour lists
     def _ensure_lists(self):
-        if self._need_rebuild or self._nb is None:
+        if self._need_rebuild or not self._built:
             self._rebuild()
 
     def _rebuild(self):
         n = self.n
-        a = self._a
-        x = a["x"][:n]
-        r = a["radius"][:n]
+        x = self._pa["x"][:n]
+        r = self._pa["radius"][:n]
         rmax = float(r.max()) if n else 0.0
         dims, inv_cs = nbr.grid_for(self.lo, self.hi, 2 * rmax + self.skin, n)
         cell_of = np.empty(n, np.int64)
@@ -579,73 +574,52 @@ class Simulation:
         hist = np.zeros((npair, 3))
         pact = np.zeros(npair, np.uint8)
         # new row -> old row through the (ascending) ids at the last build
-        ids = a["id"][:n]
-        if self._nb is not None:
+        ids = self._pa["id"][:n]
+        old = self.pairs
+        if self._built and len(self._ids_at_build):
             old_ids = self._ids_at_build
-            pos = np.searchsorted(old_ids, ids)
-            pos = np.minimum(pos, max(len(old_ids) - 1, 0))
-            old_of_new = np.where((len(old_ids) > 0) & (old_ids[pos] == ids), pos, -1).astype(np.int64) \
-                if len(old_ids) else np.full(n, -1, np.int64)
-            o = self._nb
-            nbr.carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, o[2], o[3], o[4],
-                                   o[5])
+            pos = np.minimum(np.searchsorted(old_ids, ids), len(old_ids) - 1)
+            old_of_new = np.where(old_ids[pos] == ids, pos, -1).astype(np.int64)
+            nbr.carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, old.start,
+                                   old.j, old.hist, old.active)
         else:
             old_of_new = np.full(n, -1, np.int64)
-        self._nb = (slab_start, slab_list, nb_start, nb_j, hist, pact)
         # triangle candidates
+        M = self.mesh_state
         mc_start = np.zeros(n + 1, np.int64)
-        if len(self._mt):
-            tstart, tlist = nbr.bin_triangles(self._mv_x, self._mt, self.lo, inv_cs, dims,
-                                              rmax + self.skin)
+        if len(M.tri):
+            tstart, tlist = nbr.bin_triangles(M.x, M.tri, self.lo, inv_cs, dims, rmax + self.skin)
             dummy = np.zeros(0, np.int32)
-            nbr.tri_candidates(n, x, r, self.skin, cell_of, tstart, tlist, self._mv_x, self._mt,
+            nbr.tri_candidates(n, x, r, self.skin, cell_of, tstart, tlist, M.x, M.tri,
                                mc_start, dummy, True)
             np.cumsum(mc_start[1:], out=mc_start[1:])
             mc_tri = np.empty(int(mc_start[-1]), np.int32)
-            nbr.tri_candidates(n, x, r, self.skin, cell_of, tstart, tlist, self._mv_x, self._mt,
+            nbr.tri_candidates(n, x, r, self.skin, cell_of, tstart, tlist, M.x, M.tri,
                                mc_start, mc_tri, False)
             mc_hist = np.zeros((len(mc_tri), 3))
-            if self._mc is not None:
-                o = self._mc
-                nbr.carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, o[0], o[1], o[2])
-            self._mv_x0[:] = self._mv_x
+            if self._built:
+                nbr.carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old.tri_start,
+                                      old.tri, old.tri_hist)
+            M.x0[:] = M.x
         else:
             mc_tri = np.zeros(0, np.int32)
             mc_hist = np.zeros((0, 3))
-        self._mc = (mc_start, mc_tri, mc_hist)
-        a["x0"][:n] = x
+        self.pairs = Pairs(slab_start, slab_list, nb_start, nb_j, hist, pact, mc_start, mc_tri,
+                           mc_hist)
+        self._built = True
+        self._pa["x0"][:n] = x
         self._ids_at_build = ids.copy()
         self._need_rebuild = False
         self.n_rebuilds += 1
 
-    def _args(self):
-        """The flat argument tuple of the engine kernels (views of the first n rows), in
-        the order :func:`gsi.dem.engine.advance` unpacks it."""
-        p = self._p
-        P = (p("x"), p("v"), p("omega"), p("force"), p("torque"), p("q"), p("radius"),
-             p("mass"), p("inertia"), p("T"), p("mcp_inv"), p("type"), p("fixed"),
-             p("ncontact"), p("x0"), self.table)
-        PL = (self._pl_p, self._pl_n, self._pl_v, self._pl_type, self._pl_T, self._pl_hasT,
-              p("pl_hist"), p("pl_mask"), self._pl_force,
-              self._pl_torque, self._pl_imp, self._pl_heat)
-        mc_start, mc_tri, mc_hist = self._mc
-        MW = (self._mv_x, self._mv_v, self._mv_T, self._mv_x0, self._mv_wall, self._mt,
-              self._mt_edge, self._mt_wall, self._mw_type, self._mw_hasT, self._mw_rigid,
-              self._mw_vel, self._mw_omega, self._mw_centre, mc_start, mc_tri, mc_hist,
-              p("wc_n"), p("wc_tri"), p("wc_kind"), p("wc_fid"), p("wc_k"), p("wc_w"),
-              p("wc_f"), p("wc_q"), p("wc_pt"), self._overflow, self._mw_force,
-              self._mw_torque, self._mt_force, self._mv_imp, self._mv_heat, self._mw_imp_p,
-              self._mw_heat_p, self._mt_p6, self._mt_lam)
-        return P + self._nb + PL + MW
-
     # ------------------------------------------------------------------ stepping
     def _prepare(self):
         self._check_dt()
-        if self._need_rebuild or self._nb is None:
+        if self._need_rebuild or not self._built:
             self._rebuild()
             self._check_heat()
         if not self._forces_valid:
-            self.engine.compute_forces(self.g, *self._args())
+            self.engine.compute_forces(self.g, *self._bundles(), self.table)
             self._forces_valid = True
 
     def step(self, n=1):
@@ -681,7 +655,8 @@ class Simulation:
                 self._prepare()
             chunk = min([remaining] + [ins.steps_to_next() for ins in self.inserters])
             done, code, info = self.engine.advance(chunk, skip, self.dt, self.g, half_skin2,
-                                                   vmax2, self.lo, self.hi, *self._args())
+                                                   vmax2, self.lo, self.hi, *self._bundles(),
+                                                   self.table)
             self._advance_time(done)
             remaining -= done
             skip = False
@@ -730,14 +705,12 @@ class Simulation:
 
     def contact_count(self):
         """Number of contacts at the last step (pairs once, plus wall contacts)."""
-        if self._nb is None:
+        if not self._built:
             return 0
-        pairs = int(self._nb[5].sum())
+        pairs = int(self.pairs.active.sum())
         return pairs + int(self.ncontact.sum()) - 2 * pairs
 
     def memory_bytes(self):
         """Bytes of all per-particle storage incl. neighbour lists and history."""
-        b = sum(arr.nbytes for arr in self._a.values())
-        for group in (self._nb or ()), (self._mc or ()):
-            b += sum(arr.nbytes for arr in group)
-        return b
+        b = sum(arr.nbytes for store in (self._pa, self._wa) for arr in store.values())
+        return b + bundle_bytes(self.pairs)

@@ -42,7 +42,8 @@ def _vec3(value, key):
 
 
 class PlaneWall:
-    """An infinite plane wall (see module docstring).  Made by ``Simulation.add_plane``."""
+    """An infinite plane wall (see module docstring).  Made by ``Simulation.add_plane``;
+    its data are row ``index`` of the simulation's ``plane_state`` bundle."""
 
     def __init__(self, sim, index, material):
         self._sim = sim
@@ -52,54 +53,54 @@ class PlaneWall:
     @property
     def point(self):
         """A point of the plane (m), moves with the velocity."""
-        return self._sim._pl_p[self._p].copy()
+        return self._sim.plane_state.point[self._p].copy()
 
     @property
     def normal(self):
         """Unit normal into the domain."""
-        return self._sim._pl_n[self._p].copy()
+        return self._sim.plane_state.normal[self._p].copy()
 
     @property
     def velocity(self):
-        return self._sim._pl_v[self._p].copy()
+        return self._sim.plane_state.velocity[self._p].copy()
 
     def set_motion(self, velocity=(0.0, 0.0, 0.0)):
         """Translate the plane with ``velocity`` (m/s)."""
-        self._sim._pl_v[self._p] = _vec3(velocity, "plane.velocity")
+        self._sim.plane_state.velocity[self._p] = _vec3(velocity, "plane.velocity")
 
     @property
     def temperature(self):
         """Wall temperature or None (adiabatic)."""
-        return float(self._sim._pl_T[self._p]) if self._sim._pl_hasT[self._p] else None
+        return float(self._sim.plane_state.T[self._p]) if self._sim.plane_state.has_T[self._p] else None
 
     @temperature.setter
     def temperature(self, value):
-        self._sim._pl_hasT[self._p] = value is not None
-        self._sim._pl_T[self._p] = 0.0 if value is None else float(value)
+        self._sim.plane_state.has_T[self._p] = value is not None
+        self._sim.plane_state.T[self._p] = 0.0 if value is None else float(value)
 
     @property
     def force(self):
         """Force of the particles on the plane at the last step (N)."""
-        return self._sim._pl_force[self._p].copy()
+        return self._sim.plane_state.force[self._p].copy()
 
     @property
     def torque(self):
         """Torque of the particles on the plane about ``point`` at the last step (N m)."""
-        return self._sim._pl_torque[self._p].copy()
+        return self._sim.plane_state.torque[self._p].copy()
 
     @property
     def impulse_on_particles(self):
         """Accumulated impulse of the plane on the particles (N s)."""
-        return self._sim._pl_imp[self._p].copy()
+        return self._sim.plane_state.impulse[self._p].copy()
 
     @property
     def heat_to_particles(self):
         """Accumulated heat from the plane into the particles (J)."""
-        return float(self._sim._pl_heat[self._p])
+        return float(self._sim.plane_state.heat[self._p])
 
     def reset_accumulators(self):
-        self._sim._pl_imp[self._p] = 0.0
-        self._sim._pl_heat[self._p] = 0.0
+        self._sim.plane_state.impulse[self._p] = 0.0
+        self._sim.plane_state.heat[self._p] = 0.0
 
 
 class MeshWall:
@@ -166,7 +167,7 @@ class MeshWall:
         return cls(x, inv.reshape(-1, 3), material=material,
                    vertex_temperature=vertex_temperature)
 
-    # ---- after the wall is added to a simulation, the data live in its global arrays
+    # ---- after the wall is added to a simulation, the data live in sim.mesh_state
     def _attach(self, sim, index, v0, t0):
         self._sim = sim
         self._w = index
@@ -190,11 +191,11 @@ class MeshWall:
     @property
     def vertices(self):
         """Current vertex positions (nv, 3) (m)."""
-        return self._sim._mv_x[self._vs()].copy() if self._sim else self._x.copy()
+        return self._sim.mesh_state.x[self._vs()].copy() if self._sim else self._x.copy()
 
     @property
     def vertex_velocity(self):
-        return self._sim._mv_v[self._vs()].copy()
+        return self._sim.mesh_state.v[self._vs()].copy()
 
     def set_vertices(self, x, v=None):
         """Replace vertex positions (m) and velocities (m/s; None keeps the current ones)."""
@@ -202,89 +203,89 @@ class MeshWall:
         x = np.asarray(x, float)
         if x.shape != (self.n_vertices, 3):
             raise GsiInputError(f"wall.set_vertices x shape {x.shape}: must be ({self.n_vertices}, 3)")
-        s._mv_x[self._vs()] = x
+        s.mesh_state.x[self._vs()] = x
         if v is not None:
             v = np.asarray(v, float)
             if v.shape != x.shape:
                 raise GsiInputError(f"wall.set_vertices v shape {v.shape}: must be ({self.n_vertices}, 3)")
-            s._mv_v[self._vs()] = v
-        s._mw_rigid[self._w] = 0
+            s.mesh_state.v[self._vs()] = v
+        s.mesh_state.wall_rigid[self._w] = 0
         s._wall_moved()
 
     def set_motion(self, velocity=(0.0, 0.0, 0.0), omega=(0.0, 0.0, 0.0), centre=None):
         """Rigid motion: translation ``velocity`` (m/s), rotation ``omega`` (rad/s) about
         ``centre`` (m; default: the current centre, initially the origin)."""
         s = self._sim
-        s._mw_vel[self._w] = _vec3(velocity, "wall.velocity")
-        s._mw_omega[self._w] = _vec3(omega, "wall.omega")
+        s.mesh_state.wall_velocity[self._w] = _vec3(velocity, "wall.velocity")
+        s.mesh_state.wall_omega[self._w] = _vec3(omega, "wall.omega")
         if centre is not None:
-            s._mw_centre[self._w] = _vec3(centre, "wall.centre")
-        s._mw_rigid[self._w] = 1
-        c = s._mw_centre[self._w]
-        r = s._mv_x[self._vs()] - c
-        s._mv_v[self._vs()] = s._mw_vel[self._w] + np.cross(s._mw_omega[self._w], r)
+            s.mesh_state.wall_centre[self._w] = _vec3(centre, "wall.centre")
+        s.mesh_state.wall_rigid[self._w] = 1
+        c = s.mesh_state.wall_centre[self._w]
+        r = s.mesh_state.x[self._vs()] - c
+        s.mesh_state.v[self._vs()] = s.mesh_state.wall_velocity[self._w] + np.cross(s.mesh_state.wall_omega[self._w], r)
 
     @property
     def centre(self):
         """Reference point of ``torque`` and of the rotation (m)."""
-        return self._sim._mw_centre[self._w].copy()
+        return self._sim.mesh_state.wall_centre[self._w].copy()
 
     @property
     def vertex_temperature(self):
         s = self._sim
-        return s._mv_T[self._vs()].copy() if s._mw_hasT[self._w] else None
+        return s.mesh_state.T[self._vs()].copy() if s.mesh_state.wall_has_T[self._w] else None
 
     @vertex_temperature.setter
     def vertex_temperature(self, value):
         s = self._sim
         if value is None:
-            s._mw_hasT[self._w] = 0
+            s.mesh_state.wall_has_T[self._w] = 0
             return
         value = np.broadcast_to(np.asarray(value, float), (self.n_vertices,))
-        s._mv_T[self._vs()] = value
-        s._mw_hasT[self._w] = 1
+        s.mesh_state.T[self._vs()] = value
+        s.mesh_state.wall_has_T[self._w] = 1
 
     @property
     def force(self):
         """Force of the particles on the wall at the last step (N)."""
-        return self._sim._mw_force[self._w].copy()
+        return self._sim.mesh_state.wall_force[self._w].copy()
 
     @property
     def torque(self):
         """Torque of the particles on the wall about ``centre`` at the last step (N m)."""
-        return self._sim._mw_torque[self._w].copy()
+        return self._sim.mesh_state.wall_torque[self._w].copy()
 
     @property
     def triangle_force(self):
         """Force of the particles on each triangle at the last step (nt, 3) (N)."""
-        return self._sim._mt_force[self._ts()].copy()
+        return self._sim.mesh_state.tri_force[self._ts()].copy()
 
     @property
     def vertex_impulse(self):
         """Accumulated -F_on_particle w_k dt per vertex (nv, 3) (N s)."""
-        return self._sim._mv_imp[self._vs()].copy()
+        return self._sim.mesh_state.vertex_impulse[self._vs()].copy()
 
     @property
     def vertex_heat(self):
         """Accumulated -Q_to_particle w_k dt per vertex (nv,) (J)."""
-        return self._sim._mv_heat[self._vs()].copy()
+        return self._sim.mesh_state.vertex_heat[self._vs()].copy()
 
     @property
     def impulse_on_particles(self):
         """Accumulated impulse of this wall on the particles (N s)."""
-        return self._sim._mw_imp_p[self._w].copy()
+        return self._sim.mesh_state.wall_impulse[self._w].copy()
 
     @property
     def heat_to_particles(self):
         """Accumulated heat from this wall into the particles (J)."""
-        return float(self._sim._mw_heat_p[self._w])
+        return float(self._sim.mesh_state.wall_heat[self._w])
 
     def reset_accumulators(self):
         s = self._sim
-        s._mv_imp[self._vs()] = 0.0
-        s._mv_heat[self._vs()] = 0.0
-        s._mw_imp_p[self._w] = 0.0
-        s._mw_heat_p[self._w] = 0.0
+        s.mesh_state.vertex_impulse[self._vs()] = 0.0
+        s.mesh_state.vertex_heat[self._vs()] = 0.0
+        s.mesh_state.wall_impulse[self._w] = 0.0
+        s.mesh_state.wall_heat[self._w] = 0.0
 
 
 def _parent_map(nodes, coords, nt, nv):

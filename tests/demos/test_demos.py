@@ -91,3 +91,27 @@ def test_belt_from_a_user_geo_file(tmp_path):
     rec = np.genfromtxt(tmp_path / "belt_coupling.csv", delimiter=",", names=True)
     assert rec["min_uz"].min() < -1e-3                 # millimetres of sag under the heap
     assert -rec["load_z"].min() > 0.5 * mass0 * 9.81    # impacts load it
+
+
+def test_two_coupled_structures(tmp_path):
+    """An FE steel hopper (quasi-static, n_sub 17) and the FE membrane under it (dynamic,
+    n_sub 34) on one DEM. Before the gate opens the settled bed's weight is shared by the
+    hopper wall and the gate (a wall-load study: neither alone carries it); afterwards the
+    membrane takes the discharge. Each structure keeps its transfer invariant."""
+    res = run_case(load_case(DEMOS / "two_structures.toml"), out=tmp_path, quick=True,
+                   pictures=False, verbose=False)
+    hop, mem = res.structures["hopper"], res.structures["membrane"]
+    assert (hop["n_sub"], mem["n_sub"]) == (17, 34)
+    assert hop["intervals"] == 2 * mem["intervals"]
+    assert max(hop["balance_max"], mem["balance_max"]) < 1e-12
+    W = 300 * 400.0 * 4 / 3 * math.pi * 0.01 ** 3 * 9.81
+    h, g = res.monitors["hopper"], res.monitors["gate"]
+    assert np.array_equal(h["time_s"], g["time_s"])
+    rest = (h["time_s"] > 0.6) & (h["time_s"] < 0.8)        # settled, gate still closed
+    share = -(h["load_z_N"][rest] + g["Fz_N"][rest]) / W
+    assert share.mean() == pytest.approx(1.0, abs=0.03)
+    assert -h["load_z_N"][rest].mean() > 0.1 * W and -g["Fz_N"][rest].mean() > 0.1 * W
+    assert h["max_von_mises_Pa"][rest].min() > 0
+    dis = res.monitors["discharged"]
+    assert dis["mass_kg"][-1] + dis["lost"][-1] * W / 9.81 / 300 > 0.95 * W / 9.81
+    assert -res.monitors["membrane"]["load_z_N"][-1] > 0.5 * W

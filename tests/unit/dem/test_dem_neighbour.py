@@ -1,5 +1,6 @@
 """Neighbour lists against brute force; contact history survives rebuilds and deletions."""
 import numpy as np
+import pytest
 
 from gsi.dem import Box, Material, Simulation, random_fill
 
@@ -14,11 +15,11 @@ def test_half_list_equals_brute_force():
     sim.add_particles(x, r * rng.uniform(0.8, 1.0, len(r)), material="m",
                       v=rng.normal(0, 0.5, x.shape))
     sim.step(200)
-    nb_start, nb_j = sim._nb[2], sim._nb[3]
+    nb_start, nb_j = sim.pairs.start, sim.pairs.j
     got = [(i, int(j)) for i in range(sim.n) for j in nb_j[nb_start[i]:nb_start[i + 1]]]
     assert len(got) == len(set(got))                  # each pair once
     got = {(min(i, j), max(i, j)) for i, j in got}
-    x0, r = sim._a["x0"][: sim.n], sim.radius      # the list is built at x0
+    x0, r = sim.particles.x0, sim.radius      # the list is built at x0
     d = np.linalg.norm(x0[:, None] - x0[None], axis=2)
     want = {(i, j) for i in range(sim.n) for j in range(i + 1, sim.n)
             if d[i, j] < r[i] + r[j] + sim.skin}
@@ -41,7 +42,8 @@ def test_history_survives_rebuild_and_deletion():
     sim.step(50)
 
     def springs():
-        nb_start, nb_j, hist, pact = sim._nb[2:6]
+        pr = sim.pairs
+        nb_start, nb_j, hist, pact = pr.start, pr.j, pr.hist, pr.active
         ids = sim.ids
         return {(int(ids[i]), int(ids[nb_j[k]])): hist[k].copy()
                 for i in range(sim.n) for k in range(nb_start[i], nb_start[i + 1]) if pact[k]}
@@ -80,7 +82,8 @@ def test_pairs_are_stored_in_the_lower_of_two_adjacent_slabs():
     x, r = random_fill(Box((0, 0, 0), (L, L, 0.02)), 1e-3, count=600, rng=rng)
     sim.add_particles(x, r, material="m")
     sim.step(20)
-    slab_start, slab_list, nb_start, nb_j = sim._nb[:4]
+    pr = sim.pairs
+    slab_start, slab_list, nb_start, nb_j = pr.slab_start, pr.slab_list, pr.start, pr.j
     nslab = len(slab_start) - 1
     assert nslab >= 4 and nslab % 2 == 0
     slab_of = np.empty(sim.n, int)
@@ -91,32 +94,56 @@ def test_pairs_are_stored_in_the_lower_of_two_adjacent_slabs():
         assert np.all((d == 0) | (d == 1))
 
 
-def test_two_threads_give_the_serial_result():
-    """The parallel force-and-integrate pass (two colours of slabs) against one thread:
-    the same bed to round-off (the slab count, hence the summation order, differs)."""
-    import numba
-    if numba.config.NUMBA_NUM_THREADS < 2:
-        import pytest
-        pytest.skip("needs 2 numba threads")
+THREAD_CASE = r"""
+import json, sys
+import numba
+import numpy as np
+from gsi.dem import Box, Material, Simulation, random_fill
+MAT = {"m": Material(E=5e6, nu=0.3, rho=2500, e=0.5, mu=0.9)}
+L = float(sys.argv[1])
+out = {}
+for threads in (1, 2, 3):
+    sim = Simulation(MAT, gravity=(0, 0, -9.81), dt=2e-6, skin=3e-4,
+                     domain=((0, 0, 0), (L, L, L)), parallel_min_n=10)
+    rng = np.random.default_rng(4)
+    x, r = random_fill(Box((0, 0, 0), (L, L, 0.02)), 1e-3, count=900, rng=rng)
+    sim.add_particles(x, r, material="m", v=rng.normal(0, 1.0, x.shape))
+    sim.add_plane((0, 0, 0), (0, 0, 1), material="m")
+    numba.set_num_threads(threads)
+    sim.step(2000)
+    out[threads] = dict(x=sim.x.tolist(), v=sim.v.tolist(), rebuilds=sim.n_rebuilds,
+                        contacts=sim.contact_count(), plane=sim.planes[0].force.tolist(),
+                        nslab=len(sim.pairs.slab_start) - 1)
+json.dump(out, sys.stdout)
+"""
 
-    def run(threads):
-        L = 0.03
-        sim = Simulation(MAT, gravity=(0, 0, -9.81), dt=2e-6, skin=3e-4,
-                         domain=((0, 0, 0), (L, L, L)), parallel_min_n=10)
-        rng = np.random.default_rng(4)
-        x, r = random_fill(Box((0, 0, 0), (L, L, 0.02)), 1e-3, count=900, rng=rng)
-        sim.add_particles(x, r, material="m", v=rng.normal(0, 1.0, x.shape))
-        sim.add_plane((0, 0, 0), (0, 0, 1), material="m")
-        old = numba.get_num_threads()
-        numba.set_num_threads(threads)
-        try:
-            sim.step(2000)
-        finally:
-            numba.set_num_threads(old)
-        return sim
 
-    a, b = run(1), run(2)
-    assert a.n_rebuilds == b.n_rebuilds and a.contact_count() == b.contact_count() > 50
-    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(b.v, a.v, rtol=0, atol=1e-9 * np.abs(a.v).max())
-    np.testing.assert_allclose(b.planes[0].force, a.planes[0].force, rtol=1e-9)
+@pytest.mark.parametrize("L, same_layout", [(0.03, True), (0.0355, False)])
+def test_threads_give_the_serial_result(L, same_layout):
+    """The parallel force-and-integrate pass (two colours of slabs) on 1, 2 and 3
+    threads (one subprocess with NUMBA_NUM_THREADS=3, so it never depends on the
+    caller's thread count).  With the same slab layout (L = 30 mm: 12 slabs for 1, 2
+    and 3 threads) each particle sums its contacts in the same order: bitwise equal.
+    When the slab count follows the thread count (L = 35.5 mm: 14 slabs on 1 thread,
+    12 on 2 and 3), the summation order differs: equal to round-off."""
+    import json
+    import os
+    import pathlib
+    import subprocess
+    import sys
+    root = pathlib.Path(__file__).resolve().parents[3]
+    env = dict(os.environ, NUMBA_NUM_THREADS="3", PYTHONPATH=str(root))
+    r = subprocess.run([sys.executable, "-c", THREAD_CASE, str(L)], capture_output=True,
+                       text=True, env=env, timeout=900)
+    assert r.returncode == 0, r.stderr[-2000:]
+    res = {int(k): v for k, v in json.loads(r.stdout.strip().splitlines()[-1]).items()}
+    a = res[1]
+    assert (len({res[t]["nslab"] for t in (1, 2, 3)}) == 1) == same_layout
+    for t in (2, 3):
+        b = res[t]
+        assert a["rebuilds"] == b["rebuilds"] and a["contacts"] == b["contacts"] > 50
+        np.testing.assert_allclose(b["x"], a["x"], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(b["v"], a["v"], rtol=0, atol=1e-9 * np.abs(a["v"]).max())
+        np.testing.assert_allclose(b["plane"], a["plane"], rtol=1e-9)
+        if same_layout:
+            assert b["x"] == a["x"] and b["v"] == a["v"] and b["plane"] == a["plane"]

@@ -1,0 +1,169 @@
+"""Velocity-Verlet integration and the scan for rebuilds (law-independent kernels).
+
+One DEM step (DESIGN.md "DEM physics"): v += dt/2 F/m, x += dt v, omega += dt/2 T/I;
+F = m g, T = 0, Q = 0 for the new forces; contacts; v += dt/2 F/m, omega += dt/2 T/I,
+T += dt Q/(m c_p).  The per-particle pieces here are called by the generated engine
+(:mod:`gsi.dem.engine_factory`) inside its force pass; they are ordinary cached
+numba functions, compiled once for every engine.  ``P`` is the
+:data:`gsi.dem.state.Particles` bundle.
+"""
+from gsi.jit import njit, pjit, prange
+from gsi.dem.state import Particles, as_tuple
+
+
+@njit
+def clear_one(i, gx, gy, gz, P):
+    """F = m g, T = 0, Q = 0, contact count 0 for particle i (before contacts add up)."""
+    P.ncontact[i] = 0
+    m = P.mass[i]
+    P.force[i, 0] = m * gx
+    P.force[i, 1] = m * gy
+    P.force[i, 2] = m * gz
+    for d in range(3):
+        P.torque[i, d] = 0.0
+    P.q[i] = 0.0
+
+
+@njit
+def kick_one(i, half_dt, P):
+    """Half kick of particle i (unless fixed): v += dt/2 F/m, omega += dt/2 T/I."""
+    if not P.fixed[i]:
+        a = half_dt / P.mass[i]
+        b = half_dt / P.inertia[i]
+        for d in range(3):
+            P.v[i, d] += a * P.force[i, d]
+            P.omega[i, d] += b * P.torque[i, d]
+
+
+@njit
+def drift_one(i, half_dt, dt, gx, gy, gz, P):
+    """First half kick and drift of particle i: v += dt/2 F/m, omega += dt/2 T/I,
+    x += dt v; then clear it for the new forces (:func:`clear_one`)."""
+    kick_one(i, half_dt, P)
+    if not P.fixed[i]:
+        for d in range(3):
+            P.x[i, d] += dt * P.v[i, d]
+    clear_one(i, gx, gy, gz, P)
+
+
+@njit
+def scan_one(i, P, lo, hi):
+    """(squared displacement since build, squared speed, outside the domain) of i."""
+    d2 = 0.0
+    s2 = 0.0
+    out = False
+    for d in range(3):
+        xi = P.x[i, d]
+        dd = xi - P.x0[i, d]
+        d2 += dd * dd
+        s2 += P.v[i, d] * P.v[i, d]
+        if not (lo[d] <= xi <= hi[d]):
+            out = True
+    return d2, s2, out
+
+
+@njit
+def _drift_t(i, half_dt, dt, gx, gy, gz, Pt):
+    """:func:`drift_one` with the bundle as a plain tuple (inside a prange)."""
+    drift_one(i, half_dt, dt, gx, gy, gz, Particles(*Pt))
+
+
+@njit
+def _clear_t(i, gx, gy, gz, Pt):
+    """:func:`clear_one` with the bundle as a plain tuple (inside a prange)."""
+    clear_one(i, gx, gy, gz, Particles(*Pt))
+
+
+@pjit
+def initial_integrate(P, half_dt, dt, gx, gy, gz):
+    """First half kick and drift of every particle, then clear (:func:`drift_one`)."""
+    Pt = as_tuple(P)      # a bundle crosses a prange as a plain tuple (see gsi.dem.state)
+    for i in prange(P.x.shape[0]):
+        _drift_t(i, half_dt, dt, gx, gy, gz, Pt)
+
+
+@pjit
+def clear_forces(P, gx, gy, gz):
+    """f = m g, torque = 0, heat rate = 0, contact count = 0 (before contacts add up)."""
+    Pt = as_tuple(P)
+    for i in prange(P.x.shape[0]):
+        _clear_t(i, gx, gy, gz, Pt)
+
+
+@njit
+def scan(P, lo, hi, vmax2):
+    """Largest squared displacement since build (m^2), count outside domain, bad particle.
+
+    Returns ``(max_disp2, n_out, bad)``; ``bad`` is the first particle whose velocity
+    is NaN or above sqrt(vmax2), else -1.
+    """
+    dmax = 0.0
+    nout = 0
+    bad = -1
+    for i in range(P.x.shape[0]):
+        d2, s2, out = scan_one(i, P, lo, hi)
+        if d2 > dmax:
+            dmax = d2
+        if out:
+            nout += 1
+        if bad < 0 and not (s2 <= vmax2):
+            bad = i
+    return dmax, nout, bad
+
+
+@njit
+def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P, lo, hi,
+                   vmax2):
+    """Particles ``slab_list[m0:m1]``, whose forces are complete: the second half kick
+    v += dt/2 F/m, omega += dt/2 T/I and (``heat_on``) heat T += dt Q/(m c_p); with
+    ``mode`` 2 also the next step's first half kick, drift and clear
+    (:func:`drift_one`), returning the scan of those particles: (max squared
+    displacement since build, number outside the domain, lowest row whose speed is NaN
+    or above sqrt(vmax2), else -1) as :func:`scan` does."""
+    dmax = 0.0
+    nout = 0
+    bad = -1
+    for m in range(m0, m1):
+        i = slab_list[m]
+        kick_one(i, half_dt, P)
+        if heat_on:
+            P.T[i] += dt * P.q[i] * P.mcp_inv[i]
+        if mode == 2:
+            drift_one(i, half_dt, dt, gx, gy, gz, P)
+            d2, s2, out = scan_one(i, P, lo, hi)
+            if d2 > dmax:
+                dmax = d2
+            if out:
+                nout += 1
+            if not (s2 <= vmax2) and (bad < 0 or i < bad):
+                bad = i
+    return dmax, nout, bad
+
+
+@njit
+def reduce_scans(scan_out):
+    """(max displacement^2, number outside, lowest bad row or -1) over the slabs' scans."""
+    d2 = 0.0
+    nout = 0
+    bad = -1
+    for k in range(scan_out.shape[0]):
+        d2 = max(d2, scan_out[k, 0])
+        nout += int(scan_out[k, 1])
+        b = int(scan_out[k, 2])
+        if b >= 0 and (bad < 0 or b < bad):
+            bad = b
+    return d2, nout, bad
+
+
+@njit
+def verdict(d2, wd2, nout, bad, half_skin2):
+    """(code, info) of the engine's ``advance`` from a scan after a drift: 3 and the
+    row of a blown-up particle, 2 and the number of particles outside the domain, 1 a
+    rebuild is due (a particle or wall vertex moved more than skin/2), 0 go on."""
+    if bad >= 0:
+        return 3, bad
+    if nout > 0:
+        return 2, nout
+    if d2 > half_skin2 or wd2 > half_skin2:
+        return 1, 0
+    return 0, 0
