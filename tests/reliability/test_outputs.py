@@ -195,3 +195,17 @@ def test_bad_out_paths_are_refused_in_one_line(kind, tiny, tmp_path, capsys):
                   "empty": ("", "give an output directory")}[kind]
     assert main(["run", str(tiny), "--out", out]) == 2
     assert words in _one_line(capsys.readouterr().err, "error: --out = ")
+
+
+def test_out_of_memory_at_set_up_stops_in_one_line(tiny, tmp_path, monkeypatch, capsys):
+    """A MemoryError (injected: the checks refuse the counts that would raise it) becomes
+    ``run stopped: out of memory; ...`` with exit status 3."""
+    import gsi.runner
+
+    def no_memory(case, *, dt):
+        raise MemoryError
+
+    monkeypatch.setattr(gsi.runner, "build_simulation", no_memory)
+    assert main(["run", str(tiny), "--out", str(tmp_path / "out")]) == 3
+    line = _one_line(capsys.readouterr().err, "run stopped: out of memory")
+    assert "particles[].count" in line
