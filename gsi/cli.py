@@ -1,7 +1,9 @@
 """The ``gsi`` command: ``--version``, ``info``, ``check CASE.toml``, ``run CASE.toml``.
 
 Input errors print one line ``error: <key> = <value>: <what is allowed>`` and exit with
-status 2, never a traceback; a run that blows up prints its diagnosis and exits with 3.
+status 2, never a traceback; a run that blows up (or cannot write its files) prints its
+diagnosis and exits with 3. Warnings print as one line ``warning: ...``. ``gsi run`` refuses
+an ``--out`` holding an earlier run's outputs unless ``--overwrite``.
 """
 from __future__ import annotations
 
@@ -55,11 +57,31 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--out", default=None, help="output directory (default out/<case name>)")
     r.add_argument("--quick", action="store_true", help="the case's [quick] form (short)")
     r.add_argument("--no-pictures", action="store_true", help="skip PNG pictures")
+    r.add_argument("--overwrite", action="store_true",
+                   help="replace the outputs of an earlier run in --out (else refused)")
     return p
 
 
+def _one_line(exc) -> str:
+    """The message of ``exc`` on one line (some libraries' messages span several)."""
+    return " ".join(str(exc).split())
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings as one line ``warning: ...`` on stderr (no source line)."""
+    print(f"warning: {_one_line(message)}", file=sys.stderr if file is None else file)
+
+
 def main(argv: list[str] | None = None) -> int:
+    import warnings
     args = _parser().parse_args(argv)
+    with warnings.catch_warnings():      # restores the caller's filters and showwarning
+        warnings.simplefilter("ignore", DeprecationWarning)   # libraries' notes to developers
+        warnings.showwarning = _show_warning
+        return _main(args)
+
+
+def _main(args) -> int:
     try:
         if args.command == "info":
             print(info())
@@ -71,10 +93,10 @@ def main(argv: list[str] | None = None) -> int:
         _parser().print_help()
         return 0
     except GsiInputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_INPUT
     except GsiRunError as exc:
-        print(f"run stopped: {exc}", file=sys.stderr)
+        print(f"run stopped: {_one_line(exc)}", file=sys.stderr)
         return EXIT_RUN
     except KeyboardInterrupt:
         print("interrupted: the files written so far are complete", file=sys.stderr)
@@ -102,7 +124,8 @@ def _run(args) -> int:
     from gsi.runner import run_case
     case = load_case(args.case)
     out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
-    run_case(case, out=out, quick=args.quick, pictures=False if args.no_pictures else None)
+    run_case(case, out=out, quick=args.quick, pictures=False if args.no_pictures else None,
+             overwrite=args.overwrite)
     return 0
 
 

@@ -125,10 +125,12 @@ class Runner:
         Override ``output.pictures``.
     verbose : bool
         Print the set-up, the progress and the summary (rank 0).
+    overwrite : bool
+        Replace an earlier run's outputs in ``out`` (else refused, see :func:`_output_dir`).
     """
 
     def __init__(self, case, *, out, quick: bool = False, pictures: bool | None = None,
-                 verbose: bool = True):
+                 verbose: bool = True, overwrite: bool = False):
         from mpi4py import MPI
         self.comm = MPI.COMM_WORLD
         self.root = 0
@@ -137,7 +139,7 @@ class Runner:
         case = validated(case)
         self.case = case.quick_variant() if quick else case
         self.quick = quick
-        self.out = _output_dir(out, self.comm)
+        self.out = _output_dir(out, self.comm, overwrite=overwrite)
         self.verbose = verbose and self.is_root
         self.pictures = (case.output.pictures if pictures is None else pictures) and self.is_root
         self.sim = None
@@ -493,8 +495,31 @@ class Runner:
         return keys
 
 
-def _output_dir(out, comm) -> pathlib.Path:
-    """Create the output directory (rank 0) or raise a one-line error on every rank."""
+#: what a run writes in its output directory: these directories (any one of them, or
+#: summary.txt, marks an earlier run) and these top-level files; ``--overwrite`` removes
+#: them and nothing else (a user's own files there stay)
+OUTPUT_DIRS = ("particles", "walls", "monitors", "pictures", "checkpoints")
+OUTPUT_FILES = ("summary.txt", "*.xdmf", "*.h5", "*_coupling.csv", "*_energy.csv",
+                "history.csv", "*.pvd", "*.png", "*.gif")
+
+
+def previous_outputs(out: pathlib.Path) -> list[pathlib.Path]:
+    """The files and directories of an earlier run in ``out`` (none if ``out`` holds no
+    OUTPUT_DIRS and no summary.txt: then it is not a run's directory)."""
+    dirs = [out / d for d in OUTPUT_DIRS if (out / d).is_dir()]
+    if not dirs and not (out / "summary.txt").is_file():
+        return []
+    files = sorted({f for pattern in OUTPUT_FILES for f in out.glob(pattern) if f.is_file()})
+    return dirs + files
+
+
+def _output_dir(out, comm, *, overwrite: bool = False) -> pathlib.Path:
+    """Create the output directory (rank 0) or raise a one-line error on every rank.
+
+    A directory holding an earlier run's outputs (:func:`previous_outputs`) is refused
+    unless ``overwrite``, which removes those outputs first (other files stay), so that no
+    stale file of the earlier run is left in a series."""
+    import shutil
     msg = None
     if out is None or str(out).strip() == "":
         msg = "--out = '': give an output directory"
@@ -503,6 +528,16 @@ def _output_dir(out, comm) -> pathlib.Path:
         if comm.rank == 0:
             try:
                 out.mkdir(parents=True, exist_ok=True)
+                old = previous_outputs(out)
+                if old and not overwrite:
+                    msg = (f"--out = {str(out)!r}: holds the outputs of an earlier run "
+                           f"({', '.join(f.name for f in old[:3])}{', ...' if len(old) > 3 else ''}); "
+                           "add --overwrite to replace them or give another directory")
+                for f in old if overwrite else ():
+                    if f.is_dir():
+                        shutil.rmtree(f)
+                    else:
+                        f.unlink()
                 probe = out / f".gsi-write-test-{comm.rank}"
                 probe.write_text("")
                 probe.unlink()
@@ -522,13 +557,37 @@ def _output_dir(out, comm) -> pathlib.Path:
 
 
 def run_case(case, *, out, quick: bool = False, pictures: bool | None = None,
-             verbose: bool = True) -> RunResult:
-    """Run a case (a :class:`gsi.case.Case` or a path to a case file) into ``out``."""
+             verbose: bool = True, overwrite: bool = False) -> RunResult:
+    """Run a case (a :class:`gsi.case.Case` or a path to a case file) into ``out``.
+
+    ``overwrite``: replace an earlier run's outputs in ``out`` (else such a directory is
+    refused). A failure to write (a full disk, a quota, a vanished directory) or to
+    allocate stops the run with a one-line :class:`gsi.errors.GsiRunError`; the files
+    written so far stay, half-written temporary files are removed."""
     if not hasattr(case, "run"):
         from gsi.case import load_case
         case = load_case(case)
-    return Runner(case, out=out, quick=quick, pictures=pictures, verbose=verbose).run()
+    try:
+        return Runner(case, out=out, quick=quick, pictures=pictures, verbose=verbose,
+                      overwrite=overwrite).run()
+    except OSError as exc:
+        _remove_temporaries(out)
+        where = exc.filename or f"under {out}"
+        raise GsiRunError(f"cannot write {where}: {exc.strerror or exc}; free space (or fix "
+                          f"the directory) and run again with --overwrite") from None
+    except MemoryError:
+        raise GsiRunError("out of memory; fewer particles (particles[].count, rate) or a "
+                          "coarser structure mesh (structures[].geometry.h)") from None
 
+
+def _remove_temporaries(out) -> None:
+    """Remove the ``<file>.tmp<pid>`` files a failed atomic write left under ``out``."""
+    try:
+        for f in pathlib.Path(out).rglob("*.tmp[0-9]*"):
+            if f.is_file():
+                f.unlink()
+    except OSError:
+        pass
 
 
 def demo_main(case, *, description: str = "", argv=None) -> RunResult | None:
@@ -541,11 +600,13 @@ def demo_main(case, *, description: str = "", argv=None) -> RunResult | None:
     parser.add_argument("--quick", action="store_true", help="the short form (< 2 minutes)")
     parser.add_argument("--out", default=None, help="output directory (default out/<name>)")
     parser.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace the outputs of an earlier run in --out")
     args = parser.parse_args(argv)
     out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
     try:
         return run_case(case, out=out, quick=args.quick,
-                        pictures=False if args.no_pictures else None)
+                        pictures=False if args.no_pictures else None, overwrite=args.overwrite)
     except GsiInputError as exc:
         print(f"error: {exc}", file=sys.stderr)
         sys.exit(2)

@@ -65,12 +65,23 @@ from gsi.config.schema import load, param
 from gsi.errors import GsiInputError
 
 __all__ = ["Case", "load_case", "case_from_table", "case_to_table", "merge_tables", "validated",
-           "DT_WARN", "DT_DEFAULT"]
+           "DT_WARN", "DT_DEFAULT", "DT_REFUSE", "MAX_OVERLAP", "MAX_SKIN",
+           "MAX_IMPACT_OVERLAP"]
 
 #: default DEM step as a fraction of the smallest Rayleigh time
 DT_DEFAULT = 0.2
 #: above this fraction of the Rayleigh time, contacts are resolved coarsely (warning)
 DT_WARN = 0.3
+#: above this fraction of the Rayleigh time a case is refused unless ``dem.force_dt``
+DT_REFUSE = 0.5
+#: largest initial overlap of two particles, as a fraction of the smaller radius (file and
+#: lattice sources; random fills never overlap)
+MAX_OVERLAP = 0.05
+#: largest Verlet skin, in largest particle radii
+MAX_SKIN = 4.0
+#: largest head-on overlap of two particles meeting at the estimated impact speed, as a
+#: fraction of the radius (a softer material lets particles pass through each other)
+MAX_IMPACT_OVERLAP = 0.5
 #: more particles than this in one case is refused before any allocation
 MAX_PARTICLES = 20_000_000
 
@@ -190,10 +201,13 @@ class Case:
     def time_step(self) -> float:
         """The DEM step the case runs with (s); the one time-step rule of gsi.
 
-        Hertz: t_R is the smallest Rayleigh time; default dt = 0.2 t_R; above t_R an error
-        (unless ``dem.force_dt``), above 0.3 t_R a warning. Linear: t_c is the shortest
-        contact duration; default t_c/50; above t_c/10 an error (unless force_dt), above
-        t_c/50 a warning.
+        Hertz (t_R: the smallest Rayleigh time of the particles): the default step is
+        0.2 t_R; up to 0.3 t_R is accepted, up to :data:`DT_REFUSE` = 0.5 t_R with a
+        warning (contacts are resolved coarsely); above 0.5 t_R the case is refused unless
+        ``dem.force_dt`` (a step of 0.95 t_R blows up a pour, 1.5-3 t_R empties its box);
+        with ``force_dt`` it runs with a warning that says the results are not to be
+        trusted. Linear law (t_c = pi sqrt(m*/k_n), m* = m_min/2): default t_c/50; above
+        t_c/50 a warning; above t_c/10 refused unless ``force_dt``.
         """
         if self.dem.contact == "linear":
             t_ref, name, default, warn = self.contact_time_linear(), "the linear contact time " \
@@ -202,14 +216,17 @@ class Case:
         else:
             t_ref, name, default, warn = min(self.rayleigh_times()), "the Rayleigh time t_R", \
                 DT_DEFAULT, DT_WARN
-            limit = 1.0
+            limit = DT_REFUSE
         dt = self.run.dt if self.run.dt is not None else default * t_ref
-        if dt > limit * t_ref:
-            msg = (f"run.dt = {dt:g}: above {limit:g} x {name} = {t_ref:.3g} s; use "
+        if dt > limit * t_ref * (1 + 1e-12):
+            over = 1.0 if self.dem.contact != "linear" and dt > t_ref else limit
+            msg = (f"run.dt = {dt:g}: above {over:g} x {name} = {t_ref:.3g} s; use "
                    f"run.dt <= {default * t_ref:.3g}")
             if not self.dem.force_dt:
                 raise GsiInputError(msg + " (or dem.force_dt = true to run anyway)")
-            warnings.warn(msg, stacklevel=2)
+            warnings.warn(f"dem.force_dt = true: {msg}; particles may fly apart or be lost and "
+                          f"the results are not to be trusted ({dt / t_ref:.3g} x the limit "
+                          f"reference)", stacklevel=2)
         elif dt > warn * t_ref * (1 + 1e-12):
             warnings.warn(f"run.dt = {dt:g} s is above {warn:g} x {name} = {t_ref:.3g} s: "
                           f"contacts are resolved coarsely; run.dt <= {default * t_ref:.3g} s "
@@ -222,7 +239,10 @@ class Case:
 
         Files readable, mesh tags present, regions inside the domain, particles that fit
         their region, a radius that looks like millimetres, absurd counts, a schedule
-        event after the end, monitors naming things that exist, the time step.
+        event after the end, monitors naming things that exist, a Verlet skin far above the
+        particle size, a material too soft for the impact speed, particles of files that
+        overlap, a stream asked for more particles per step than its region holds, the
+        time step (:meth:`time_step`); and the same for the ``[quick]`` form.
         """
         dom = dict(domain_lo=self.dem.domain_lo, domain_hi=self.dem.domain_hi)
         for i, p in enumerate(self.particles):
@@ -246,7 +266,11 @@ class Case:
                 raise GsiInputError(f"quick.run.duration = {q.run.duration}: longer than "
                                     f"run.duration = {self.run.duration} (s); --quick must be "
                                     f"shorter")
+        self._check_skin()
+        self._check_stiffness()
+        self._check_placed_overlaps()
         dt = self.time_step()
+        self._check_streams(dt)
         n_steps = self.run.duration / dt
         if n_steps > 1e10:
             raise GsiInputError(f"run.duration = {self.run.duration}: {n_steps:.2g} DEM steps "
@@ -258,7 +282,156 @@ class Case:
         if self.output.interval < dt:
             raise GsiInputError(f"output.interval = {self.output.interval}: shorter than the "
                                 f"DEM step {dt:.3g} s")
+        if self.quick:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")     # the case's own warnings were given
+                try:
+                    q._check_quick_form()
+                except GsiInputError as exc:
+                    raise GsiInputError(f"{exc} (with the [quick] overrides)") from None
         return dt
+
+    def _check_quick_form(self) -> None:
+        """The checks of :meth:`check` that a ``[quick]`` override can break (sizes, counts,
+        materials, the step), without those a shorter run breaks on purpose (a stream or a
+        schedule event after its end)."""
+        dom = dict(domain_lo=self.dem.domain_lo, domain_hi=self.dem.domain_hi)
+        for i, p in enumerate(self.particles):
+            p.check(f"particles[{i}]", base_dir=self.base_dir, **dom)
+        self._check_skin()
+        self._check_stiffness()
+        self._check_placed_overlaps()
+        dt = self.time_step()
+        self._check_streams(dt)
+        if self.output.interval < dt:
+            raise GsiInputError(f"output.interval = {self.output.interval}: shorter than the "
+                                f"DEM step {dt:.3g} s")
+
+    def source_largest_radius(self, i: int) -> float:
+        """Largest radius (m) of particle source i (its size table, or its file)."""
+        p = self.particles[i]
+        if p.size is not None:
+            return p.size.largest
+        from gsi.case.sources import read_particle_file
+        data = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file")
+        return float(data["radius"].max())
+
+    def largest_radius(self) -> float:
+        return max(self.source_largest_radius(i) for i in range(len(self.particles)))
+
+    def _check_skin(self) -> None:
+        """A Verlet skin above MAX_SKIN largest radii (or the domain) is a unit slip: every
+        particle would list every other as a neighbour."""
+        skin = self.dem.skin
+        if skin is None:
+            return
+        r_max = self.largest_radius()
+        limit = min(MAX_SKIN * r_max, self.dem.domain_size)
+        if skin > limit:
+            raise GsiInputError(
+                f"dem.skin = {skin:g}: larger than {MAX_SKIN:g} x the largest particle radius "
+                f"({r_max:g} m) or the domain; use about 0.4 x the smallest radius = "
+                f"{0.4 * self.smallest_radius():.3g} m, or remove it for the default (m)")
+
+    def impact_speed(self, i: int) -> float:
+        """Speed (m/s) at which particles of source i may meet: their initial speed plus a
+        free fall through the domain's height along gravity."""
+        p = self.particles[i]
+        g = np.asarray(self.dem.gravity, float)
+        gn = float(np.linalg.norm(g))
+        height = float(np.abs(g / gn) @ (np.asarray(self.dem.domain_hi) -
+                                         np.asarray(self.dem.domain_lo))) if gn > 0 else 0.0
+        return float(np.linalg.norm(p.velocity)) + math.sqrt(2.0 * gn * height)
+
+    def _check_stiffness(self) -> None:
+        """Particles of each source meeting head-on at :meth:`impact_speed` must not
+        overlap by more than MAX_IMPACT_OVERLAP of their radius: Hertz (Johnson, Contact
+        Mechanics, eq. 11.24) delta = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) with m* = m/2,
+        R* = r/2, E* = E / (2 (1 - nu^2)); linear law delta = v sqrt(m*/k_n). delta / r
+        does not depend on r. A softer material (E = 1 Pa) lets every particle pass
+        through its neighbours and out of the domain."""
+        for i, p in enumerate(self.particles):
+            v = self.impact_speed(i)
+            if v <= 0:
+                continue
+            mat = self.materials[p.material]
+            r = self.source_largest_radius(i)
+            m_star = 0.5 * mat.rho * 4.0 / 3.0 * math.pi * r ** 3
+            if self.dem.contact == "linear":
+                delta = v * math.sqrt(m_star / self.dem.k_n)
+                if delta > MAX_IMPACT_OVERLAP * r:
+                    need = self.dem.k_n * (delta / (0.1 * r)) ** 2
+                    raise GsiInputError(
+                        f"dem.k_n = {self.dem.k_n:g}: too soft; particles[{i}] (radius {r:g} m) "
+                        f"meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their radius; "
+                        f"use k_n >= {need:.3g} N/m (overlap 0.1 r)")
+                continue
+            e_star = mat.E / (2.0 * (1.0 - mat.nu ** 2))
+            delta = (15.0 * m_star * v ** 2 / (16.0 * e_star * math.sqrt(0.5 * r))) ** 0.4
+            if delta > MAX_IMPACT_OVERLAP * r:
+                need = mat.E * (delta / (0.1 * r)) ** 2.5
+                raise GsiInputError(
+                    f"materials.{p.material}.E = {mat.E:g}: too soft; particles[{i}] (radius "
+                    f"{r:g} m) meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their "
+                    f"radius and pass through each other; use E >= {need:.3g} Pa (overlap "
+                    f"0.1 r; check the units: Pa)")
+
+    def _check_placed_overlaps(self) -> None:
+        """Particles placed at known positions (files, lattice fills) must not overlap one
+        another (within a file, or across sources) by more than MAX_OVERLAP of the smaller
+        radius: they would fly apart. With ``dem.force_dt`` a warning instead. A lattice
+        fill counts with its smallest radius here (its radii are drawn at the run's start,
+        when :meth:`ParticleSource.add_to` checks again); overlaps with random fills
+        (positions drawn at the start) are found there too."""
+        from gsi.case.sources import first_overlap, read_particle_file
+        seen_x, seen_r, seen_from = [], [], []
+        for i, p in enumerate(self.particles):
+            if p.fill == "file":
+                data = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file",
+                                          shown=p.file)
+                x, r = data["x"], data["radius"]
+                key, what = f"particles[{i}].file = '{p.file}'", "row"
+                hit = first_overlap(x, r, MAX_OVERLAP)
+                pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
+            elif p.fill == "lattice":
+                x = p.lattice_sites(f"particles[{i}]")
+                r = np.full(len(x), p.size.smallest)
+                key, what, hit = f"particles[{i}].region", "lattice site", None
+            else:
+                continue
+            if hit is None and seen_x:
+                hit = first_overlap(x, r, MAX_OVERLAP, other_x=np.concatenate(seen_x),
+                                    other_r=np.concatenate(seen_r))
+                if hit is not None:
+                    pair = f"{what} {hit[0]} and {seen_from[hit[1]]}"
+            if hit is not None:
+                msg = (f"{key}: {pair} overlap by {hit[2]:.3g} x the smaller radius (more than "
+                       f"{MAX_OVERLAP:g}); they would fly apart: separate them, shrink the "
+                       "radii, or move the region")
+                if not self.dem.force_dt:
+                    raise GsiInputError(msg + " (or dem.force_dt = true to run anyway)")
+                warnings.warn(f"dem.force_dt = true: {msg}", stacklevel=3)
+            seen_x.append(x)
+            seen_r.append(r)
+            seen_from += ([f"row {k} of particles[{i}].file" for k in range(len(x))]
+                          if p.fill == "file" else
+                          [f"lattice site {k} of particles[{i}]" for k in range(len(x))])
+
+    def _check_streams(self, dt: float) -> None:
+        """A stream must not be asked for more particles per step (rate x dt) than its
+        region holds (a random fill jams at RANDOM_FILL_LIMIT): the rest would be skipped
+        silently."""
+        from gsi.case.sources import RANDOM_FILL_LIMIT
+        for i, p in enumerate(self.particles):
+            if p.fill != "stream":
+                continue
+            per_step = p.rate * dt
+            holds = RANDOM_FILL_LIMIT * p.region.volume / p.size.mean_volume()
+            if per_step > holds:
+                raise GsiInputError(
+                    f"particles[{i}].rate = {p.rate:g}: {per_step:.3g} particles per DEM step "
+                    f"(rate x dt, dt = {dt:.3g} s) but the region holds about {holds:.3g}; "
+                    f"lower the rate (at most {holds / dt:.3g} 1/s) or enlarge the region")
 
     # ------------------------------------------------------------------ quick form
     def quick_variant(self) -> "Case":
@@ -273,7 +446,7 @@ class Case:
         try:
             return case_from_table(table, base_dir=self.base_dir)
         except GsiInputError as exc:
-            raise GsiInputError(f"[quick] overrides: {exc}") from None
+            raise GsiInputError(f"quick.{exc} (a [quick] override)") from None
 
 
 # ---------------------------------------------------------------------- TOML <-> Case

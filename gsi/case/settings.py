@@ -62,7 +62,8 @@ class Dem:
                                        doc="gravity vector")
     domain_lo: tuple[float, ...] = param(unit="m", length=3, doc="lower corner of the domain box")
     domain_hi: tuple[float, ...] = param(unit="m", length=3, doc="upper corner of the domain box")
-    force_dt: bool = param(False, doc="run even if dt exceeds the Rayleigh time")
+    force_dt: bool = param(False, doc="run (with a warning) even if dt is above 0.5 t_R "
+                                      "(linear: t_c/10) or placed particles overlap")
 
     def validate(self, path: str) -> None:
         if any(hi <= lo for lo, hi in zip(self.domain_lo, self.domain_hi)):

@@ -45,8 +45,8 @@ from gsi.case.regions import Region, _prefix
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
-__all__ = ["Size", "ParticleSource", "read_particle_file", "FILLS", "RANDOM_FILL_LIMIT",
-           "MAX_PARTICLES"]
+__all__ = ["Size", "ParticleSource", "read_particle_file", "first_overlap", "FILLS",
+           "RANDOM_FILL_LIMIT", "MAX_PARTICLES"]
 
 Vec3 = tuple[float, ...]
 FILLS = ("random", "lattice", "stream", "file")
@@ -245,6 +245,7 @@ class ParticleSource:
         if self.fill == "file":
             data = read_particle_file(pathlib.Path(base_dir) / self.file, key=f"{p}file",
                                       shown=self.file)
+            self._refuse_overlap(sim, data["x"], data["radius"], f"{p}file = '{self.file}'")
             v = data["v"] if data["v"] is not None else np.asarray(self.velocity, float)
             T = data["T"] if data["T"] is not None else self.temperature
             return sim.add_particles(data["x"], data["radius"], material=self.material, v=v, T=T)
@@ -263,16 +264,9 @@ class ParticleSource:
                                 "are in m)")
         n = planned if (self.count or self.volume_fraction) else None
         if self.fill == "lattice":
-            x = insertion.lattice_fill(self.region.shape, self.size.largest)
-            x = x[np.lexsort((x[:, 0], x[:, 1], x[:, 2]))]       # bottom layers first
-            if n is not None:
-                if n > len(x):
-                    raise GsiInputError(
-                        f"{p}{'count' if self.count else 'volume_fraction'}: {n} particles do not "
-                        f"fit the {len(x)} lattice sites of the region; enlarge the region or "
-                        "ask for fewer")
-                x = x[:n]
+            x = self.lattice_sites(path)
             r = dist.sample(rng, len(x))
+            self._refuse_overlap(sim, x, r, f"{p}region")
         else:
             try:
                 x, r = insertion.random_fill(self.region.shape, dist, count=self.count,
@@ -284,6 +278,39 @@ class ParticleSource:
         v = np.broadcast_to(np.asarray(self.velocity, float), (len(x), 3))
         return sim.add_particles(x, r, material=self.material, v=v,
                                  T=np.full(len(x), self.temperature))
+
+    def lattice_sites(self, path: str = "particles") -> np.ndarray:
+        """Centres (k, 3) (m) of a lattice fill: the lowest ``count`` (or
+        ``volume_fraction``) sites, or all (deterministic: no random numbers)."""
+        from gsi.dem import insertion
+        p = _prefix(path)
+        x = insertion.lattice_fill(self.region.shape, self.size.largest)
+        x = x[np.lexsort((x[:, 0], x[:, 1], x[:, 2]))]       # bottom layers first
+        n = self.planned_count() if (self.count or self.volume_fraction) else None
+        if n is not None:
+            if n > len(x):
+                raise GsiInputError(
+                    f"{p}{'count' if self.count else 'volume_fraction'}: {n} particles do not "
+                    f"fit the {len(x)} lattice sites of the region; enlarge the region or "
+                    "ask for fewer")
+            x = x[:n]
+        return x
+
+    @staticmethod
+    def _refuse_overlap(sim, x, r, key: str) -> None:
+        """New particles (file, lattice) must not overlap those already placed by more than
+        MAX_OVERLAP (gsi.case.case) of the smaller radius, unless ``dem.force_dt``
+        (``sim.force_dt``)."""
+        from gsi.case.case import MAX_OVERLAP
+        if sim.n == 0 or getattr(sim, "force_dt", False):
+            return
+        hit = first_overlap(x, r, MAX_OVERLAP, other_x=sim.x, other_r=sim.radius)
+        if hit is not None:
+            raise GsiInputError(
+                f"{key}: its particle {hit[0]} at {np.round(x[hit[0]], 6).tolist()} overlaps an "
+                f"earlier source's particle (id {int(sim.ids[hit[1]])}) by {hit[2]:.3g} x the "
+                f"smaller radius; they would fly apart: move the region or the particles, or "
+                f"list this source first (random fills avoid earlier particles)")
 
     # ---- pre-run check
     def check(self, path: str = "particles", *, domain_lo, domain_hi, duration: float | None = None,
@@ -356,6 +383,49 @@ class ParticleSource:
         if r_max > dom / 3:
             raise GsiInputError(f"{key}: radius {r_max:g} m is over a third of the domain "
                                 f"({dom:g} m); did you give mm? lengths are in m")
+
+
+def first_overlap(x, r, frac: float, *, other_x=None, other_r=None):
+    """The first pair of spheres that overlap by more than ``frac`` x the smaller radius.
+
+    Parameters
+    ----------
+    x, r : (k, 3) and (k,) float
+        Centres and radii (m).
+    frac : float
+        Allowed overlap r_a + r_b - |x_a - x_b| as a fraction of min(r_a, r_b).
+    other_x, other_r : arrays, optional
+        Compare ``x`` with these spheres instead of with each other.
+
+    Returns
+    -------
+    (int, int, float) or None
+        Row in ``x``, row in ``other`` (or in ``x``), overlap / smaller radius.
+    """
+    from scipy.spatial import cKDTree
+    x, r = np.asarray(x, float), np.asarray(r, float)
+    if other_x is None:
+        if len(x) < 2:
+            return None
+        ij = cKDTree(x).query_pairs(float(2 * r.max()), output_type="ndarray")
+        i, j = (ij[:, 0], ij[:, 1]) if len(ij) else (np.zeros(0, int), np.zeros(0, int))
+        ox, orr = x, r
+    else:
+        ox, orr = np.asarray(other_x, float), np.asarray(other_r, float)
+        if len(x) == 0 or len(ox) == 0:
+            return None
+        m = cKDTree(x).sparse_distance_matrix(cKDTree(ox), float(r.max() + orr.max()),
+                                              output_type="ndarray")
+        i, j = m["i"].astype(int), m["j"].astype(int)
+    if len(i) == 0:
+        return None
+    d = np.linalg.norm(x[i] - ox[j], axis=1)
+    f = (r[i] + orr[j] - d) / np.minimum(r[i], orr[j])
+    bad = np.flatnonzero(f > frac)
+    if len(bad) == 0:
+        return None
+    k = bad[np.lexsort((j[bad], i[bad]))[0]]
+    return int(i[k]), int(j[k]), float(f[k])
 
 
 def read_particle_file(path, *, key: str = "file", shown: str | None = None) -> dict:

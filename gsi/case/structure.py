@@ -71,6 +71,32 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _check_geometry_value(key: str, value, default, *, positive: bool = True) -> None:
+    """A builder parameter has the kind of its default: a string, a list of positive
+    integers (a tuple default), or a number (m; > 0 for a builder); a .geo constant
+    (``positive=False``) is any number. Nothing reaches gmsh as the wrong type."""
+    if isinstance(default, str):
+        if not isinstance(value, str):
+            raise GsiInputError(f"{key} = {value!r}: must be a string (e.g. {default!r})")
+        return
+    if isinstance(default, tuple):
+        if not (isinstance(value, list) and len(value) == len(default)
+                and all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in value)):
+            raise GsiInputError(f"{key} = {value!r}: must be a list of {len(default)} positive "
+                                f"integers (e.g. {list(default)})")
+        return
+    if not _is_number(value):
+        raise GsiInputError(f"{key} = {value!r}: must be a number (m)")
+    if isinstance(default, int) and not isinstance(default, bool) and not isinstance(value, int):
+        raise GsiInputError(f"{key} = {value!r}: must be an integer (e.g. {default})")
+    if positive and value <= 0:
+        raise GsiInputError(f"{key} = {value!r}: must be > 0 (m)")
+
+
 @dataclass(kw_only=True)
 class Load:
     """A uniform surface traction on a tag (``[[structures.loads]]``)."""
@@ -215,12 +241,17 @@ class Structure:
                                     f"{', '.join(sorted(meshes.BUILDERS))}")
             allowed = [k for k in inspect.signature(meshes.BUILDERS[self.mesh]).parameters
                        if k not in ("comm", "root")]
+            params = inspect.signature(meshes.BUILDERS[self.mesh]).parameters
             for k, v in self.geometry.items():
                 if k not in allowed:
                     raise GsiInputError(f"{key}.geometry.{k} = {v!r}: not a parameter of the "
                                         f"'{self.mesh}' builder; allowed: {', '.join(allowed)}")
+                _check_geometry_value(f"{key}.geometry.{k}", v, params[k].default)
         elif pathlib.Path(self.file).suffix.lower() not in (".geo", ".msh"):
             raise GsiInputError(f"{key}.file = {self.file!r}: must be a gmsh .geo or .msh file")
+        else:
+            for k, v in self.geometry.items():
+                _check_geometry_value(f"{key}.geometry.{k}", v, None, positive=False)
         if self.damping_ratio is not None and self.rayleigh[0] > 0:
             raise GsiInputError(f"{key}.damping_ratio = {self.damping_ratio}: give either "
                                 "damping_ratio or rayleigh[0] (a0), not both")

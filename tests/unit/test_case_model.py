@@ -212,3 +212,102 @@ def test_time_step_rule(tmp_path):
     res = _gsi("check", str(case))
     assert res.returncode == 0 and "above 0.3 x the Rayleigh time" in res.stderr
     assert "run.dt <= 4.41e-05 s is safe" in res.stderr
+
+
+# ---------------------------------------------------------------------- issue 11: bad inputs
+def _pour_case(table, **dem):
+    table = copy.deepcopy(table)
+    table["dem"].update(dem)
+    return case_from_table(table, base_dir=POUR.parent)
+
+
+def test_one_time_step_rule_in_bands(table):
+    """dt <= 0.3 t_R silent; (0.3, 0.5] t_R a warning; above 0.5 t_R refused unless
+    force_dt, which runs with a warning saying the results are not to be trusted."""
+    import warnings
+    t_R = min(_pour_case(table).rayleigh_times())
+    for frac, outcome in ((0.25, None), (0.4, "coarsely"), (0.7, "above 0.5 x"),
+                          (1.5, "above 1 x")):
+        t = copy.deepcopy(table)
+        t["run"]["dt"] = frac * t_R
+        case = _pour_case(t)
+        with warnings.catch_warnings(record=True) as got:
+            warnings.simplefilter("always")
+            if outcome is not None and outcome.startswith("above"):
+                with pytest.raises(GsiInputError, match=f"^run.dt = .*: {outcome} the Rayleigh "
+                                   r"time .*dem.force_dt = true"):
+                    case.time_step()
+                forced = _pour_case(t, force_dt=True)
+                assert forced.time_step() == pytest.approx(frac * t_R)
+                assert any(str(w.message).startswith("dem.force_dt = true: run.dt")
+                           and "not to be trusted" in str(w.message) for w in got)
+                continue
+            assert case.time_step() == pytest.approx(frac * t_R)
+        assert [str(w.message) for w in got if outcome is None] == []
+        if outcome:
+            assert any(outcome in str(w.message) for w in got)
+
+
+def test_shipped_demos_pass_every_check_without_a_warning():
+    import warnings
+    for path in DEMO_CASES:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            load_case(path).check()
+
+
+def test_first_overlap_finds_the_first_pair():
+    from gsi.case.sources import first_overlap
+    import numpy as np
+    x = np.array([[0.0, 0, 0], [1.0, 0, 0], [0.0196, 0, 0], [1.0198, 0, 0]])
+    r = np.full(4, 0.01)
+    assert first_overlap(x, r, 0.05) is None                 # 0.04 r and 0.02 r overlaps
+    a, b, f = first_overlap(x, r, 0.01)
+    assert (a, b) == (0, 2) and f == pytest.approx(0.04)
+    assert first_overlap(x[:2], r[:2], 0.05, other_x=x[2:] - [0.01, 0, 0],
+                         other_r=r[2:])[:2] == (0, 0)
+    assert first_overlap(x[:1], r[:1], 0.05) is None
+
+
+def test_force_dt_turns_the_overlap_refusal_into_a_warning(table, tmp_path):
+    import warnings
+    (tmp_path / "pile.csv").write_text("x,y,z,radius\n0.03,0.03,0.05,0.002\n"
+                                       "0.0304,0.03,0.05,0.002\n")
+    t = copy.deepcopy(table)
+    t["particles"] = [{"material": "glass", "fill": "file", "file": "pile.csv"}]
+    t.pop("quick")
+    case = case_from_table(t, base_dir=tmp_path)
+    with pytest.raises(GsiInputError, match=r"^particles\[0\].file = 'pile.csv': rows 0 and 1 "
+                       r"overlap by 1.8 x"):
+        case.check()
+    t["dem"]["force_dt"] = True
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        case_from_table(t, base_dir=tmp_path).check()
+    assert any("rows 0 and 1 overlap" in str(w.message) for w in got)
+
+
+def test_skin_softness_and_stream_rate_limits(table):
+    """The limits sit where the demos pass: a skin of 4 radii passes, 10 m does not; E at
+    the limit where the impact overlap reaches half a radius."""
+    t = copy.deepcopy(table)
+    t["dem"]["skin"] = 4 * 0.0022
+    case_from_table(t, base_dir=POUR.parent).check()
+    t["dem"]["skin"] = 4.01 * 0.0022
+    with pytest.raises(GsiInputError, match=r"^dem.skin = "):
+        case_from_table(t, base_dir=POUR.parent).check()
+    t = copy.deepcopy(table)
+    t["materials"]["glass"]["E"] = 1.0e5
+    with pytest.raises(GsiInputError, match=r"^materials.glass.E = 100000: too soft"):
+        case_from_table(t, base_dir=POUR.parent).check()
+    t["materials"]["glass"]["E"] = 1.0e6
+    case_from_table(t, base_dir=POUR.parent).check()
+
+
+def test_cli_warnings_are_one_line(tmp_path):
+    case = tmp_path / "dt.toml"
+    case.write_text(POUR.read_text().replace("seed = 7", "seed = 7\ndt = 0.00009"))
+    res = _gsi("check", str(case))
+    assert res.returncode == 0
+    assert res.stderr.startswith("warning: run.dt = 9e-05 s is above 0.3 x the Rayleigh")
+    assert res.stderr.count("\n") == 1
