@@ -117,10 +117,35 @@ def cylinder(*, centre=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0), radius: float, len
                 length=length, facets=facets)
 
 
+def _zip_rings(outer, inner) -> np.ndarray:
+    """Triangles between two concentric rings of ``len(outer)`` and ``len(inner)`` vertices
+    (index arrays in increasing angle, both starting at angle 0): walk both rings by angle,
+    always closing the triangle whose next vertex comes first. Oriented as
+    (outer, next outer, inner): counter-clockwise about the axis of :func:`_rings`."""
+    no, ni = len(outer), len(inner)
+    t_o = np.arange(no + 1) / no            # angles as fractions of a turn, wrapped once
+    t_i = np.arange(ni + 1) / ni
+    tri = []
+    a = b = 0
+    while a < no or b < ni:
+        if b >= ni or (a < no and t_o[a + 1] <= t_i[b + 1]):
+            tri.append((outer[a % no], outer[(a + 1) % no], inner[b % ni]))
+            a += 1
+        else:
+            tri.append((outer[a % no], inner[(b + 1) % ni], inner[b % ni]))
+            b += 1
+    return np.asarray(tri, np.int64)
+
+
 def drum(*, centre=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0), radius: float, length: float,
          facets: int = 48):
-    """Closed drum: cylinder mantle (see :func:`cylinder`) with flat end caps at both ends,
-    each a disc of concentric rings; normals point into the drum."""
+    """Closed drum: cylinder mantle (see :func:`cylinder`) with flat end caps at both ends;
+    normals point into the drum.
+
+    Each cap is a disc of concentric rings whose vertex count falls with the radius (ring k
+    of n_r at radius k R/n_r has about ``facets`` k/n_r vertices, at least 6), so the cap's
+    triangles stay near-equilateral down to the centre: a particle touching the cap meets a
+    few triangles, not the dozens of slivers of a fan or of equal-count rings."""
     V, T = cylinder(centre=centre, axis=axis, radius=radius, length=length, facets=facets)
     n_rings = len(V) // facets
     n_r = max(1, int(round(facets / (2 * math.pi))))           # rings on a cap: ~equilateral
@@ -130,24 +155,24 @@ def drum(*, centre=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0), radius: float, length:
     verts = [V]
     nv = len(V)
     for end, ring0 in ((0.0, 0), (length, (n_rings - 1) * facets)):
-        radii = radius * np.arange(n_r - 1, 0, -1) / n_r
-        Vi = _rings(c, a, radii, np.full(len(radii), end), facets)
-        Vi = np.vstack([Vi, c + end * a])
-        ring_idx = [ring0 + np.arange(facets)] + [nv + k * facets + np.arange(facets)
-                                                 for k in range(n_r - 1)]
-        centre_idx = nv + (n_r - 1) * facets
-        tri = []
-        for outer, inner in zip(ring_idx[:-1], ring_idx[1:]):
-            o1, i1 = np.roll(outer, -1), np.roll(inner, -1)
-            tri += [np.c_[outer, o1, inner], np.c_[o1, i1, inner]]
+        ring_idx = [ring0 + np.arange(facets)]
+        block = []
+        for k in range(n_r - 1, 0, -1):
+            n_k = max(6, int(round(facets * k / n_r)))
+            block.append(_rings(c, a, [radius * k / n_r], [end], n_k))
+            ring_idx.append(nv + sum(len(v) for v in block[:-1]) + np.arange(n_k))
+        block.append((c + end * a)[None, :])
+        centre_idx = nv + sum(len(v) for v in block[:-1])
+        tri = [_zip_rings(outer, inner) for outer, inner in zip(ring_idx[:-1], ring_idx[1:])]
         last = ring_idx[-1]
-        tri.append(np.c_[last, np.roll(last, -1), np.full(facets, centre_idx)])
+        tri.append(np.c_[last, np.roll(last, -1), np.full(len(last), centre_idx)])
         tri = np.vstack(tri)
         # (outer, next, inner) turns counter-clockwise about +axis: normal +axis, into the
         # drum at the bottom cap (end 0); flip at the top cap
         if end > 0:
             tri = tri[:, ::-1]
         tris.append(tri)
+        Vi = np.vstack(block)
         verts.append(Vi)
         nv += len(Vi)
     return np.vstack(verts), np.vstack(tris).astype(np.int64)
