@@ -260,11 +260,12 @@ class Heat:
         if cells.shape[1] != d + 1:
             raise GsiInputError(f"{self.theta_key} = {self.theta!r}: the explicit stability "
                                 "bound needs straight P1 simplices (this mesh has curved cells)")
-        X = x[cells][:, :, :d]                                   # (n, d+1, d)
+        X = x[cells]                                             # (n, d+1, 3)
         J = np.transpose(X[:, 1:, :] - X[:, :1, :], (0, 2, 1))   # columns: edges from node 0
-        V = np.abs(np.linalg.det(J)) / math.factorial(d)
-        Jinv = np.linalg.inv(J)                                  # rows: gradients of nodes 1..d
-        G = np.concatenate([-Jinv.sum(1, keepdims=True), Jinv], axis=1)  # (n, d+1, d)
+        JtJ = np.einsum("nai,naj->nij", J, J)
+        V = np.sqrt(np.abs(np.linalg.det(JtJ))) / math.factorial(d)
+        Jinv = np.linalg.solve(JtJ, np.transpose(J, (0, 2, 1)))  # rows: gradients of nodes 1..d
+        G = np.concatenate([-Jinv.sum(1, keepdims=True), Jinv], axis=1)  # (n, d+1, 3)
         GtG = np.einsum("nia,nib->nab", G, G)
         lam = (d + 1) * (d + 2) * (m.k / (m.rho * m.c)) * np.linalg.eigvalsh(GtG)[:, -1]
         for name, h in self.h.items():
@@ -274,9 +275,10 @@ class Heat:
             if len(facets) == 0:
                 continue
             fn = compat.entities_to_geometry(self.mesh, d - 1, facets)
-            F = x[fn][:, :, :d]
+            F = x[fn]
             E = F[:, 1:, :] - F[:, :1, :]
-            A = np.sqrt(np.abs(np.linalg.det(np.einsum("nia,nja->nij", E, E)))) / math.factorial(d - 1)
+            gram = np.einsum("nia,nja->nij", E, E)              # facet measure from its Gram
+            A = np.sqrt(np.abs(np.linalg.det(gram))) / math.factorial(d - 1)
             area = {tuple(sorted(f)): a for f, a in zip(fn.tolist(), A)}
             for c, nodes in enumerate(cells.tolist()):
                 for skip in range(d + 1):
