@@ -138,8 +138,9 @@ class StructureThermal:
                          doc="stress-free temperature and zero of the stored energies")
     T_initial: Optional[float] = param(None, unit="K", check=positive(),
                                        doc="initial temperature (default T_ref)")
-    theta: float = param(1.0, unit="-", check=between(0.5, 1.0),
-                         doc="heat time scheme: 1 backward Euler, 0.5 Crank-Nicolson")
+    theta: float = param(1.0, unit="-", check=between(0.0, 1.0),
+                         doc="heat time scheme: 1 backward Euler, 0.5 Crank-Nicolson, 0 explicit "
+                             "(dt_FE under its stability limit)")
     convection: list[Convection] = param(default_factory=list,
                                          doc="[[structures.thermal.convection]] tag, h, T_ambient")
     fixed: list[FixedTemperature] = param(default_factory=list,
@@ -498,13 +499,15 @@ class Structure:
         heat = None
         if self.has_heat:
             heat = Heat(sm, dataclasses.replace(mat, c=mat.c / heat_scale), dt=n_sub * dt_dem,
-                        theta=th.theta, T_initial=T_init)
+                        theta=th.theta, T_initial=T_init,
+                        theta_key=f"{self.key}.thermal.theta")
             for cv in th.convection:
                 heat.set_convection(cv.tag, cv.h, cv.T_ambient)
             for fx in th.fixed:
                 heat.fix_temperature(fx.tag, fx.T)
             for fl in th.flux:
                 heat.set_flux(fl.tag, fl.q)
+            heat.check_stability()          # theta < 0.5: dt_FE under the explicit limit
         itf = SurfaceInterface(el, heat=heat, tag=co.tags)
         return CoupledStructure(
             name=self.name, mesh=sm, material=mat, elasticity=el, heat=heat, interface=itf,
