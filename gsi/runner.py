@@ -300,16 +300,18 @@ class Runner:
                 if hasattr(h, "triangles"):
                     surfaces.append(dict(points=h.vertices, triangles=h.triangles,
                                          opacity=0.3, color="lightsteelblue"))
-        for st in self.structures:       # the DEM wall follows the FE surface
+        for j, st in enumerate(self.structures):    # the DEM wall follows the FE surface
             x = st.wall.vertices
             if color == "temperature" and st.wall.vertex_temperature is not None:
                 surfaces.append(dict(points=x, triangles=st.wall.triangles,
                                      values=st.wall.vertex_temperature, opacity=0.7,
-                                     name=f"{st.name} T (K)", cmap="inferno"))
+                                     name=f"{st.name} T (K)", cmap="inferno",
+                                     bar_x=0.88 - 0.14 * j))
                 continue
             u = np.linalg.norm(x - st.interface.x0, axis=1)
             surfaces.append(dict(points=x, triangles=st.wall.triangles, values=1e3 * u,
-                                 name=f"{st.name} |u| (mm)", cmap="viridis"))
+                                 name=f"{st.name} |u| (mm)", cmap="viridis",
+                                 bar_x=0.88 - 0.14 * j))
         (self.out / "pictures").mkdir(exist_ok=True)
         camera = None
         if case.output.view != "iso":
