@@ -261,7 +261,9 @@ class Inserter:
             raise GsiInputError(f"inserter.rate = {rate}: must be > 0 (particles/s)")
         if max_count is not None and max_count < 0:
             raise GsiInputError(f"inserter.max_count = {max_count}: must be >= 0")
-        sim._material(material, "inserter.material")
+        if material not in sim.material_names:
+            raise GsiInputError(f"inserter.material = {material!r}: unknown material, known: "
+                                f"{sim.material_names}")
         self.sim, self.region, self.rate = sim, region, float(rate)
         self.dist = as_distribution(radius, key="inserter.radius")
         self.material = material
