@@ -173,14 +173,18 @@ class Case:
         """``{(a, b): {"e": .., ...}}`` for :class:`gsi.dem.Simulation`."""
         return {tuple(p.materials): p.overrides() for p in self.pairs}
 
-    def source_smallest_radius(self, i: int) -> float:
-        """Smallest radius (m) of particle source i (its size table, or its file)."""
+    def source_radii(self, i: int) -> tuple[float, float]:
+        """Smallest and largest radius (m) of particle source i (its size table, or its
+        file)."""
         p = self.particles[i]
         if p.size is not None:
-            return p.size.smallest
+            return p.size.smallest, p.size.largest
         from gsi.case.sources import read_particle_file
-        data = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file")
-        return float(data["radius"].min())
+        r = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file")["radius"]
+        return float(r.min()), float(r.max())
+
+    def source_smallest_radius(self, i: int) -> float:
+        return self.source_radii(i)[0]
 
     def smallest_radius(self) -> float:
         return min(self.source_smallest_radius(i) for i in range(len(self.particles)))
@@ -308,13 +312,7 @@ class Case:
                                 f"DEM step {dt:.3g} s")
 
     def source_largest_radius(self, i: int) -> float:
-        """Largest radius (m) of particle source i (its size table, or its file)."""
-        p = self.particles[i]
-        if p.size is not None:
-            return p.size.largest
-        from gsi.case.sources import read_particle_file
-        data = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file")
-        return float(data["radius"].max())
+        return self.source_radii(i)[1]
 
     def largest_radius(self) -> float:
         return max(self.source_largest_radius(i) for i in range(len(self.particles)))
