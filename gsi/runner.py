@@ -512,7 +512,9 @@ class Runner:
         flags = np.array([self._signal, wall_due], np.int64)
         if self.comm.size > 1:
             from mpi4py import MPI
-            flags = self.comm.allreduce(flags, op=MPI.MAX)
+            agreed = np.empty_like(flags)
+            self.comm.Allreduce(flags, agreed, op=MPI.MAX)
+            flags = agreed
         signum = int(flags[0])
         if (due or flags[1] or signum) and self._ckpt_step != k:
             self.write_checkpoint(k, n_out)

@@ -44,11 +44,11 @@ def test_resume_is_bitwise_serial(reference, tmp_path, threads):
         driver(ref / "out", "--checkpoint-every", EVERY, "--dump", str(ref / "final"),
                "--parallel-min-n", "0", threads=2)
     step = rewind(ref / "out", tmp_path / "out")
-    assert step == 600
+    assert step == 800
     extra = ["--parallel-min-n", "0"] if threads == 2 else []
     proc = driver(tmp_path / "out", "--resume", "--checkpoint-every", EVERY, "--dump",
                   str(tmp_path / "final"), *extra, threads=threads)
-    assert "resumed at t = 0.012 s (step 600)" in proc.stdout
+    assert "resumed at t = 0.012 s (step 800)" in proc.stdout
     assert_same_state(dumps(ref / "final"), dumps(tmp_path / "final"))
     assert_same_files(ref / "out", tmp_path / "out")
 
