@@ -293,6 +293,10 @@ class Runner:
         self._pw = None
         self._wall_series = []
         if self.is_root:
+            if restored is not None:      # temporaries of a killed run
+                for p in out.iterdir():
+                    if re.search(r"\.tmp\d+$", p.name) and p.is_file():
+                        p.unlink(missing_ok=True)
             if "particles" in fields:
                 if restored is None:
                     self._pw = ParticleWriter(out / "particles", "particles")
@@ -657,6 +661,11 @@ class Runner:
                             monitors=monitors, structures=structures, summary={},
                             wall_clock=time.perf_counter() - wall0, files=files)
             res.summary = self._summary(res)
+            if self.checkpoint_seconds:
+                spent = sum(self.checkpoint_seconds)
+                self.say(f"checkpoints: {len(self.checkpoint_seconds)} written in {spent:.3f} s "
+                         f"({100 * spent / res.wall_clock:.2f} % of the {res.wall_clock:.1f} s "
+                         f"wall time; the longest {max(self.checkpoint_seconds):.3f} s)")
         res = self.comm.bcast(res, root=self.root)
         return res
 

@@ -126,7 +126,10 @@ def assert_files_open(out):
     import meshio
     for pvd in out.rglob("*.pvd"):
         for ds in ET.parse(pvd).getroot().iter("DataSet"):
-            meshio.read(pvd.parent / ds.get("file"))
+            vtu = pvd.parent / ds.get("file")
+            piece = ET.parse(vtu).getroot().find("UnstructuredGrid/Piece")
+            if int(piece.get("NumberOfPoints")) > 0:   # meshio cannot read an empty grid
+                meshio.read(vtu)
     for path in out.rglob("*.csv"):
         if "checkpoints" in path.parts:
             continue

@@ -13,6 +13,7 @@ their wall-clock columns, monitor series) and every output file (see
 import importlib.util
 import json
 import pathlib
+import re
 import subprocess
 import sys
 
@@ -79,3 +80,85 @@ def test_resume_without_a_checkpoint_is_refused(tmp_path):
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert proc.stderr.strip().splitlines()[-1].startswith(
         "error: --resume: no complete checkpoint under")
+
+
+# ---------------------------------------------------------------------- kill -9 and signals
+def _interrupt(out, sig, *, delay, ranks=None, target="process"):
+    """Start ``gsi run``, wait for its first checkpoint and ``delay`` s more, send ``sig``
+    (to the process, its process group, or -- under mpirun -- to the ranks)."""
+    import os
+    import time
+    proc = cli(out, "--checkpoint-every", EVERY, ranks=ranks, start_new_session=True)
+    _util.wait_for("checkpoints/ckpt_*.json", out, proc=proc)
+    time.sleep(delay)
+    if target == "group":
+        os.killpg(proc.pid, sig)
+    elif target == "ranks":
+        kids = subprocess.run(["pgrep", "-P", str(proc.pid)], capture_output=True,
+                              text=True).stdout.split()
+        assert len(kids) == ranks
+        for pid in kids:
+            os.kill(int(pid), sig)
+    else:
+        os.kill(proc.pid, sig)
+    stdout, stderr = proc.communicate(timeout=300)
+    return proc.returncode, stdout, stderr
+
+
+def _resume(out, ranks=None):
+    proc = cli(out, "--checkpoint-every", EVERY, "--resume", ranks=ranks)
+    stdout, stderr = proc.communicate(timeout=600)
+    assert proc.returncode == 0, stdout[-2000:] + stderr[-3000:]
+    return stdout
+
+
+@pytest.mark.parametrize("delay", [0.0, 0.7])
+def test_kill_9_leaves_readable_files_and_resumes_bitwise(reference, tmp_path, delay):
+    import signal
+    out = tmp_path / "out"
+    code, _, _ = _interrupt(out, signal.SIGKILL, delay=delay)
+    assert code == -signal.SIGKILL
+    _util.assert_files_open(out)
+    assert "resumed at t = " in _resume(out)
+    assert_same_files(reference / "out", out)
+
+
+@pytest.mark.parametrize("name, code", [("SIGINT", 130), ("SIGTERM", 143)])
+def test_a_signal_checkpoints_prints_one_line_and_resumes_bitwise(reference, tmp_path, name,
+                                                                  code):
+    import signal
+    out = tmp_path / "out"
+    rc, _, stderr = _interrupt(out, getattr(signal, name), delay=0.3)
+    assert rc == code, stderr
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in stderr, stderr
+    assert re.fullmatch(r"interrupted at t = [0-9.e-]+ s; checkpoint written; resume with "
+                        r"gsi run \S+coupled_small.toml --out \S+ --no-pictures "
+                        r"--checkpoint-every 0.006 --resume", lines[0]), lines[0]
+    t = float(lines[0].split()[4])
+    manifest = json.loads(sorted((out / "checkpoints").glob("*.json"))[-1].read_text())
+    assert manifest["time"] == pytest.approx(t, rel=1e-5)     # the newest is the signal's
+    _util.assert_files_open(out)
+    _resume(out)
+    assert_same_files(reference / "out", out)
+
+
+@pytest.mark.parametrize("target", ["group", "ranks"])
+def test_a_signal_under_mpirun_checkpoints_on_every_rank(tmp_path, target):
+    """Ctrl-C of ``mpirun -n 2`` (SIGINT to its process group: mpirun forwards it, and
+    Open MPI's mpirun, signalled itself, exits with 1) or SIGTERM to the ranks alone
+    (mpirun passes their status on: 143): one line from rank 0, a checkpoint of both
+    ranks, a clean resume."""
+    import signal
+    out = tmp_path / "out"
+    sig = signal.SIGINT if target == "group" else signal.SIGTERM
+    rc, _, stderr = _interrupt(out, sig, delay=0.3, ranks=2, target=target)
+    assert rc == (1 if target == "group" else 143), stderr
+    ours = [line for line in stderr.splitlines() if line.startswith("interrupted at t = ")]
+    assert len(ours) == 1 and "Traceback" not in stderr, stderr
+    assert ours[0].endswith("resume with mpirun -n 2 gsi run " + ours[0].split(" gsi run ")[1])
+    manifest = json.loads(sorted((out / "checkpoints").glob("*.json"))[-1].read_text())
+    assert manifest["n_ranks"] == 2
+    assert manifest["time"] == pytest.approx(float(ours[0].split()[4]), rel=1e-5)
+    _util.assert_files_open(out)
+    assert "resumed at t = " in _resume(out, ranks=2)
