@@ -32,8 +32,9 @@ def main():
             init(self, *args, **kw)
         simulation.Simulation.__init__ = patched
     from mpi4py import MPI
+
+    from gsi.fem.elasticity import Elasticity      # on every rank: PETSc starts collectively
     if a.fail_fe_on_rank is not None and MPI.COMM_WORLD.rank == a.fail_fe_on_rank:
-        from gsi.fem.elasticity import Elasticity
         step = Elasticity.step
 
         def failing(self):
