@@ -137,12 +137,17 @@ def _run(args, argv=None) -> int:
     import shlex
     from gsi.case import load_case
     from gsi.runner import Runner, RunInterrupted
-    case = load_case(args.case)
-    out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
+    try:       # the same inputs on every rank: the same error (reported once)
+        case = load_case(args.case)
+        out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
+        runner = Runner(case, out=out, quick=args.quick,
+                        pictures=False if args.no_pictures else None, resume=args.resume,
+                        checkpoint_every=args.checkpoint_every)
+    except GsiInputError as exc:
+        exc.agreed = True
+        raise
     try:
-        Runner(case, out=out, quick=args.quick,
-               pictures=False if args.no_pictures else None, resume=args.resume,
-               checkpoint_every=args.checkpoint_every).run()
+        runner.run()
     except RunInterrupted as exc:
         words = list(sys.argv[1:] if argv is None else argv)
         if "--out" not in words and not any(w.startswith("--out=") for w in words):

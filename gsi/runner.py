@@ -736,7 +736,8 @@ class Runner:
                         for k, v in keys.items())
         self.say(text)
         self.say(last)
-        (self.out / "summary.txt").write_text(text + "\n" + last + "\n")
+        from gsi.checkpoint import write_atomic
+        write_atomic(self.out / "summary.txt", text + "\n" + last + "\n", fsync=False)
         return keys
 
 
