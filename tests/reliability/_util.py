@@ -76,7 +76,7 @@ def dumps(prefix):
     out = {}
     for path in sorted(prefix.parent.glob(prefix.name + ".rank*.npz")):
         with np.load(path, allow_pickle=False) as z:
-            out[path.name] = {k: z[k] for k in z.files}
+            out[path.name.rsplit(".", 2)[1]] = {k: z[k] for k in z.files}
     return out
 
 

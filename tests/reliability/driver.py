@@ -1,6 +1,6 @@
 """Run a case file for the reliability tests and dump the final state.
 
-``python driver.py CASE OUT [--resume] [--checkpoint-every S] [--dump PATH]
+``python driver.py CASE OUT [--resume] [--quick] [--checkpoint-every S] [--dump PATH]
 [--parallel-min-n N] [--fail-fe-on-rank R --fail-fe-at-step K]``
 
 ``--dump PATH`` writes every rank's final :meth:`gsi.runner.Runner.state` to
@@ -17,6 +17,7 @@ def main():
     p.add_argument("case")
     p.add_argument("out")
     p.add_argument("--resume", action="store_true")
+    p.add_argument("--quick", action="store_true")
     p.add_argument("--checkpoint-every", type=float, default=None)
     p.add_argument("--dump", default=None)
     p.add_argument("--parallel-min-n", type=int, default=None)
@@ -55,6 +56,8 @@ def main():
     argv = ["run", a.case, "--out", a.out, "--no-pictures"]
     if a.resume:
         argv.append("--resume")
+    if a.quick:
+        argv.append("--quick")
     if a.checkpoint_every is not None:
         argv += ["--checkpoint-every", str(a.checkpoint_every)]
     code = cli.main(argv)

@@ -162,3 +162,17 @@ def test_a_signal_under_mpirun_checkpoints_on_every_rank(tmp_path, target):
     assert manifest["time"] == pytest.approx(float(ours[0].split()[4]), rel=1e-5)
     _util.assert_files_open(out)
     assert "resumed at t = " in _resume(out, ranks=2)
+
+
+def test_the_quick_hopper_demo_resumes_bitwise(tmp_path, monkeypatch):
+    """The shipped demo (--quick): cone and gate mesh walls, rolling resistance, a P2
+    generalized-alpha membrane; rewound to its checkpoint at 0.5 s."""
+    monkeypatch.setattr(_util, "CASE", _util.ROOT / "demos" / "hopper_membrane.toml")
+    driver(tmp_path / "ref", "--quick", "--checkpoint-every", "0.5", "--dump",
+           str(tmp_path / "ref_final"))
+    assert rewind(tmp_path / "ref", tmp_path / "res") == 1570
+    proc = driver(tmp_path / "res", "--quick", "--resume", "--checkpoint-every", "0.5",
+                  "--dump", str(tmp_path / "res_final"))
+    assert "resumed at t = 0.500152 s (step 1570)" in proc.stdout
+    assert_same_state(dumps(tmp_path / "ref_final"), dumps(tmp_path / "res_final"))
+    assert_same_files(tmp_path / "ref", tmp_path / "res")
