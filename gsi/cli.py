@@ -85,7 +85,8 @@ def main(argv: list[str] | None = None) -> int:
     except GsiRunError as exc:
         return _report(exc, f"run stopped: {exc}", EXIT_RUN)
     except KeyboardInterrupt:
-        print("interrupted: the files written so far are complete", file=sys.stderr)
+        if _mpi_size() == 1 or sys.modules["mpi4py.MPI"].COMM_WORLD.rank == 0:
+            print("interrupted: the files written so far are complete", file=sys.stderr)
         return 130
     except Exception as exc:
         if _mpi_size() > 1:      # one rank failed alone: the others must not wait

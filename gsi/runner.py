@@ -20,10 +20,11 @@ event steps are known everywhere); an error on the DEM rank is broadcast at the 
 each chunk, so every rank stops with the same message and none hangs.
 
 Files under ``out``: ``particles.pvd`` (+ ``particles/*.vtu``), ``walls/<name>.vtu``
-(moving walls: ``walls/<name>.pvd`` series), ``<structure>.xdmf`` and its coupling CSVs,
+(moving walls: ``walls/<name>.pvd`` series), ``<structure>.xdmf`` (+ ``.h5``, one closed
+file pair per step under ``<structure>_steps/``) and its coupling CSVs,
 ``monitors/<name>.csv`` (one row per sample, flushed as written), ``monitors.png``,
 ``pictures/frame_*.png``, ``<case>.gif`` and ``<case>.png`` (the last frame), and
-``summary.txt`` (the closing summary).
+``summary.txt`` (the closing summary), ``checkpoints/``.
 
 Checkpoints and restart (:mod:`gsi.checkpoint`): every ``run.checkpoint_interval``
 simulated seconds (``checkpoint_every`` overrides it; the checkpoint steps are events),
@@ -424,17 +425,26 @@ class Runner:
     def run(self) -> RunResult:
         """Run the case (or continue it, ``resume``); see the module docstring."""
         wall0 = time.perf_counter()
-        previous = {}
-        try:
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                previous[sig] = signal.signal(sig, self._on_signal)
-        except ValueError:      # not the main thread: no signal handling
-            previous = {}
+        self._previous_handlers = {}
         try:
             return self._run(wall0)
         finally:
-            for sig, handler in previous.items():
-                signal.signal(sig, handler)
+            self._release_signals()
+
+    def _release_signals(self) -> None:
+        """After the last step a signal acts as usual again (nothing left to checkpoint)."""
+        for sig, handler in self._previous_handlers.items():
+            signal.signal(sig, handler)
+        self._previous_handlers = {}
+
+    def _catch_signals(self) -> None:
+        """From the first step on, SIGINT/SIGTERM checkpoint and stop the run (before,
+        during the set-up, they stop it at once as usual)."""
+        try:
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._previous_handlers[sig] = signal.signal(sig, self._on_signal)
+        except ValueError:      # not the main thread: no signal handling
+            pass
 
     def _on_signal(self, signum, frame) -> None:
         """SIGINT/SIGTERM: note it; the loop checkpoints and stops at the end of the chunk
@@ -467,6 +477,7 @@ class Runner:
                 self.say(f"resumed at t = {k * self.dt:.6g} s (step {k}) from "
                          f"{self.out / 'checkpoints'}")
             self._ckpt_step, self._ckpt_wall = k, time.perf_counter()
+            self._catch_signals()
             while k < self.n_total:
                 nxt = min([self.n_total] + [(k // e + 1) * e for e in self.every.values()]
                           + [j for j in self.motion_events if j > k])
@@ -498,6 +509,9 @@ class Runner:
                     self._progress(k, wall0)
                 if k < self.n_total:
                     self._maybe_checkpoint(k, n_out)
+            self._release_signals()
+            if self._signal:       # it came during the last chunk: the run is complete
+                self.say("the run completed before the interruption took effect")
         finally:
             if self.is_root and self._pw is not None:
                 self._pw.close()

@@ -144,3 +144,25 @@ def assert_files_open(out):
         proc = subprocess.run([sys.executable, "-c", code, str(xdmf)], env=env(),
                               capture_output=True, text=True, timeout=300)
         assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+def assert_close_state(a, b, *, rtol=1e-7):
+    """Two final-state dumps agree as two repeats of one run under MPI do: integers exactly,
+    floats to ``rtol`` of each array's largest magnitude (the round-off balances
+    ``balance_*`` are round-off themselves and only compared in size)."""
+    assert a.keys() == b.keys() and a
+    for rank in a:
+        x, y = a[rank], b[rank]
+        assert x.keys() == y.keys()
+        for k in x:
+            if k.endswith(TIMING):
+                continue
+            assert (x[k].dtype, x[k].shape) == (y[k].dtype, y[k].shape), (rank, k)
+            if x[k].dtype.kind != "f":
+                assert x[k].tobytes() == y[k].tobytes(), (rank, k)
+            elif "balance_" in k:
+                assert np.nanmax(np.abs(y[k]), initial=0.0) < 1e-11, (rank, k)
+            else:
+                scale = np.nanmax(np.abs(x[k]), initial=0.0)
+                assert np.allclose(x[k], y[k], rtol=0.0, atol=rtol * scale, equal_nan=True), \
+                    (rank, k, np.nanmax(np.abs(x[k] - y[k])), scale)

@@ -1,10 +1,12 @@
 """Run a case file for the reliability tests and dump the final state.
 
 ``python driver.py CASE OUT [--resume] [--quick] [--checkpoint-every S] [--dump PATH]
+[--dump-restored PATH]
 [--parallel-min-n N] [--fail-fe-on-rank R --fail-fe-at-step K]``
 
 ``--dump PATH`` writes every rank's final :meth:`gsi.runner.Runner.state` to
-``PATH.rank<r>.npz``; ``--parallel-min-n 0`` makes the DEM use all numba threads even for
+``PATH.rank<r>.npz`` (``--dump-restored``: the state right after ``--resume`` restored
+it, then stop); ``--parallel-min-n 0`` makes the DEM use all numba threads even for
 a few particles (the threaded slab code path); ``--fail-fe-*`` raises an error in the FE
 step of one rank (the MPI error test). Exit codes are those of ``gsi run``.
 """
@@ -20,6 +22,8 @@ def main():
     p.add_argument("--quick", action="store_true")
     p.add_argument("--checkpoint-every", type=float, default=None)
     p.add_argument("--dump", default=None)
+    p.add_argument("--dump-restored", default=None,
+                   help="with --resume: dump the state right after the restore and stop")
     p.add_argument("--parallel-min-n", type=int, default=None)
     p.add_argument("--fail-fe-on-rank", type=int, default=None)
     p.add_argument("--fail-fe-at-step", type=int, default=3)
@@ -48,6 +52,16 @@ def main():
 
     runner = {}
     original = Runner.run
+    if a.dump_restored:
+        open_outputs = Runner._open_outputs
+
+        def dump_and_stop(self, restored=None):
+            open_outputs(self, restored)
+            import numpy as np
+            np.savez(f"{a.dump_restored}.rank{MPI.COMM_WORLD.rank}.npz",
+                     **self.state(int(restored["runner.k"]), int(restored["runner.n_out"])))
+            raise SystemExit(0)
+        Runner._open_outputs = dump_and_stop
 
     def run(self):
         runner["r"] = self
