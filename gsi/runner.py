@@ -20,17 +20,35 @@ event steps are known everywhere); an error on the DEM rank is broadcast at the 
 each chunk, so every rank stops with the same message and none hangs.
 
 Files under ``out``: ``particles.pvd`` (+ ``particles/*.vtu``), ``walls/<name>.vtu``
-(moving walls: ``walls/<name>.pvd`` series), ``<structure>.xdmf`` and its coupling CSVs,
+(moving walls: ``walls/<name>.pvd`` series), ``<structure>.xdmf`` (+ ``.h5``, one closed
+file pair per step under ``<structure>_steps/``) and its coupling CSVs,
 ``monitors/<name>.csv`` (one row per sample, flushed as written), ``monitors.png``,
 ``pictures/frame_*.png``, ``<case>.gif`` and ``<case>.png`` (the last frame), and
-``summary.txt`` (the closing summary).
+``summary.txt`` (the closing summary), ``checkpoints/``.
+
+Checkpoints and restart (:mod:`gsi.checkpoint`): every ``run.checkpoint_interval``
+simulated seconds (``checkpoint_every`` overrides it; the checkpoint steps are events),
+every ``run.checkpoint_minutes`` of wall-clock time (decided on rank 0), and on
+SIGINT/SIGTERM, every rank writes its state (:meth:`Runner.state`: the DEM's
+:meth:`gsi.dem.simulation.Simulation.state` on rank 0, each structure's
+:meth:`gsi.coupling.structure.CoupledStructure.state`, the loop counters, the monitor
+series, the output series and the pending picture jobs) to
+``checkpoints/ckpt_<step>.rank<r>.npz``, then rank 0 the manifest. A signal only sets a
+flag; at the end of the current chunk every rank agrees (one allreduce), writes the
+checkpoint and raises :class:`RunInterrupted`. ``resume=True`` rebuilds the case, loads
+the newest valid checkpoint (same number of ranks) and continues bit-identically to an
+uninterrupted run; every output series is cut back to the checkpoint (PVD entries and
+VTU files, CSV rows, XDMF steps), so it has no duplicate and no stale entries.
 """
 from __future__ import annotations
 
 import csv
 import dataclasses
+import json
 import math
 import pathlib
+import re
+import signal
 import time
 
 import numpy as np
@@ -38,7 +56,7 @@ import numpy as np
 from gsi import viz  # before dolfinx: pictures render in-process (gsi.viz._preload_vtk)
 from gsi.errors import GsiInputError, GsiRunError
 
-__all__ = ["Runner", "RunResult", "run_case", "build_simulation"]
+__all__ = ["Runner", "RunResult", "RunInterrupted", "run_case", "build_simulation"]
 
 
 @dataclasses.dataclass
@@ -60,6 +78,23 @@ class RunResult:
     summary: dict               # the key=value numbers of the last summary line
     wall_clock: float           # s
     files: list
+
+
+class RunInterrupted(Exception):
+    """A run stopped by SIGINT/SIGTERM after writing a checkpoint (every rank raises it).
+
+    ``signum``: the signal; ``time`` (s): the simulated time of the checkpoint;
+    ``out``: the output directory (resume with ``gsi run ... --out out --resume``).
+    """
+
+    def __init__(self, signum: int, t: float, out):
+        self.signum, self.time, self.out = int(signum), float(t), pathlib.Path(out)
+        super().__init__(f"interrupted at t = {t:.6g} s; checkpoint written")
+
+    @property
+    def exit_code(self) -> int:
+        """128 + the signal number (130 for SIGINT, 143 for SIGTERM)."""
+        return 128 + self.signum
 
 
 def build_simulation(case, *, dt: float):
@@ -103,6 +138,10 @@ class _Series:
         self._pvd.pvd = directory / f"{prefix}.pvd"
         self._write = write
 
+    def restore(self, times) -> None:
+        """Continue an earlier series: keep its first len(times) entries, drop later files."""
+        _restore_series(self._pvd, times)
+
     def write(self, t: float) -> None:
         name = f"{self._pvd.prefix}_{len(self._pvd.entries):06d}.vtu"
         self._write(self._pvd.dir / name)
@@ -127,10 +166,17 @@ class Runner:
         Print the set-up, the progress and the summary (rank 0).
     overwrite : bool
         Replace an earlier run's outputs in ``out`` (else refused, see :func:`_output_dir`).
+    resume : bool
+        Continue from the newest valid checkpoint under ``out/checkpoints`` (same case,
+        same number of MPI ranks).
+    checkpoint_every : float, optional
+        Simulated seconds between checkpoints; overrides ``run.checkpoint_interval``
+        (0: none).
     """
 
     def __init__(self, case, *, out, quick: bool = False, pictures: bool | None = None,
-                 verbose: bool = True, overwrite: bool = False):
+                 verbose: bool = True, overwrite: bool = False, resume: bool = False,
+                 checkpoint_every: float | None = None):
         from mpi4py import MPI
         self.comm = MPI.COMM_WORLD
         self.root = 0
@@ -139,7 +185,7 @@ class Runner:
         case = validated(case)
         self.case = case.quick_variant() if quick else case
         self.quick = quick
-        self.out = _output_dir(out, self.comm, overwrite=overwrite)
+        self.out = _output_dir(out, self.comm, overwrite=overwrite, resume=resume)
         self.verbose = verbose and self.is_root
         self.pictures = (case.output.pictures if pictures is None else pictures) and self.is_root
         self.sim = None
@@ -147,6 +193,14 @@ class Runner:
         self._groups = {}
         self.structures = []
         self._files = []
+        self.resume = bool(resume)
+        if checkpoint_every is not None and not (checkpoint_every >= 0
+                                                 and math.isfinite(checkpoint_every)):
+            raise GsiInputError(f"--checkpoint-every = {checkpoint_every}: must be >= 0 "
+                                "(simulated seconds; 0 = none)")
+        self.checkpoint_every = checkpoint_every
+        self.checkpoint_seconds = []       # wall-clock duration of each checkpoint write (s)
+        self._signal = 0
 
     # ------------------------------------------------------------------ queries for parts
     def say(self, *args, **kw):
@@ -181,7 +235,10 @@ class Runner:
     # ------------------------------------------------------------------ set-up
     def setup(self) -> None:
         case = self.case
-        self.dt = case.check()
+        try:
+            self.dt = case.check()
+        except GsiInputError as exc:      # the same case on every rank: the same error
+            raise _agreed(exc)
         self.n_total = max(1, int(round(case.run.duration / self.dt)))
         if self.is_root:
             self.sim, self._handles, self._groups = build_simulation(case, dt=self.dt)
@@ -205,6 +262,10 @@ class Runner:
                                                                 case.output.interval) / self.dt)))
         for st in self.structures:
             self.every[f"structure:{st.name}"] = st.n_sub
+        interval = (case.run.checkpoint_interval if self.checkpoint_every is None
+                    else self.checkpoint_every)
+        if interval > 0:
+            self.every["checkpoint"] = max(1, int(round(interval / self.dt)))
         # a schedule event at time t takes effect at the first step boundary at or after t
         # (the wall takes the motion state of the event itself, whatever the round-off)
         self.motion_events = {}
@@ -223,17 +284,33 @@ class Runner:
         if payload is None:
             return None
         kind = GsiInputError if payload[0] == "GsiInputError" else GsiRunError
-        return exc if exc is not None else kind(payload[1])
+        err = exc if exc is not None else kind(payload[1])
+        err.agreed = True       # every rank raises it: rank 0 alone reports it
+        return err
 
     # ------------------------------------------------------------------ output
-    def _open_outputs(self) -> None:
+    def _open_outputs(self, restored: dict | None = None) -> None:
+        """Open the output series; ``restored`` (a checkpoint's runner state) continues
+        those of an earlier run, cut back to the checkpoint."""
+        from gsi.checkpoint import truncate_csv
         from gsi.dem.output import ParticleWriter, write_wall_vtu
         out, fields = self.out, self.case.output.fields
         self._pw = None
         self._wall_series = []
         if self.is_root:
+            if restored is not None:      # temporaries of a killed run
+                for p in out.iterdir():
+                    if re.search(r"\.tmp\d+$", p.name) and p.is_file():
+                        p.unlink(missing_ok=True)
             if "particles" in fields:
-                self._pw = ParticleWriter(out / "particles", "particles")
+                if restored is None:
+                    self._pw = ParticleWriter(out / "particles", "particles")
+                else:
+                    self._pw = ParticleWriter.__new__(ParticleWriter)
+                    self._pw.dir, self._pw.prefix = out / "particles", "particles"
+                    self._pw.pvd = self._pw.dir / "particles.pvd"
+                    self._pw.dir.mkdir(parents=True, exist_ok=True)
+                    _restore_series(self._pw, restored["pvd.particles"])
                 self._files.append(out / "particles" / "particles.pvd")
             if "walls" in fields:
                 (out / "walls").mkdir(exist_ok=True)
@@ -243,25 +320,41 @@ class Runner:
                             continue      # planes have no geometry to write
                         stem = w.name if len(self._handles[w.name]) == 1 else f"{w.name}_{j}"
                         if w.motion.moves:
-                            self._wall_series.append(_Series(
-                                out / "walls", stem,
-                                lambda path, h=h: write_wall_vtu(path, h)))
+                            series = _Series(out / "walls", stem,
+                                             lambda path, h=h: write_wall_vtu(path, h))
+                            if restored is not None:
+                                series.restore(restored[f"pvd.walls.{len(self._wall_series)}"])
+                            self._wall_series.append(series)
                             self._files.append(out / "walls" / f"{stem}.pvd")
-                        else:
+                        elif restored is None:
                             write_wall_vtu(out / "walls" / f"{stem}.vtu", h)
+                            self._files.append(out / "walls" / f"{stem}.vtu")
+                        else:
                             self._files.append(out / "walls" / f"{stem}.vtu")
             (out / "monitors").mkdir(exist_ok=True)
         if "structures" in self.case.output.fields:
             for st in self.structures:
-                st.open_output(out)
+                st.open_output(out, resume=None if restored is None else
+                               int(restored[f"fem.{st.name}.writes"]))
         self._mon = {}
         for m in self.case.monitors:
             self._mon[m.name] = {"time_s": [], **{c: [] for c in m.columns}}
+            if restored is not None:
+                for c in self._mon[m.name]:
+                    self._mon[m.name][c] = restored.get(f"mon.{m.name}.{c}",
+                                                        np.zeros(0)).tolist()
             if self.is_root:
-                with (out / "monitors" / f"{m.name}.csv").open("w", newline="") as fh:
-                    csv.writer(fh).writerow(["time_s", *m.columns])
-                self._files.append(out / "monitors" / f"{m.name}.csv")
+                path = out / "monitors" / f"{m.name}.csv"
+                if restored is None:
+                    with path.open("w", newline="") as fh:
+                        csv.writer(fh).writerow(["time_s", *m.columns])
+                else:
+                    truncate_csv(path, len(self._mon[m.name]["time_s"]))
+                self._files.append(path)
         self._frames = []
+        if restored is not None and "frames" in restored:
+            from gsi.checkpoint import unpack
+            self._frames = unpack(json.loads(str(restored["frames"])), restored)
 
     def _sample(self, m, t: float) -> None:
         row = m.sample(self)
@@ -341,23 +434,61 @@ class Runner:
 
     # ------------------------------------------------------------------ the loop
     def run(self) -> RunResult:
+        """Run the case (or continue it, ``resume``); see the module docstring."""
         wall0 = time.perf_counter()
+        self._previous_handlers = {}
+        try:
+            return self._run(wall0)
+        finally:
+            self._release_signals()
+
+    def _release_signals(self) -> None:
+        """After the last step a signal acts as usual again (nothing left to checkpoint)."""
+        for sig, handler in self._previous_handlers.items():
+            signal.signal(sig, handler)
+        self._previous_handlers = {}
+
+    def _catch_signals(self) -> None:
+        """From the first step on, SIGINT/SIGTERM checkpoint and stop the run (before,
+        during the set-up, they stop it at once as usual)."""
+        try:
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._previous_handlers[sig] = signal.signal(sig, self._on_signal)
+        except ValueError:      # not the main thread: no signal handling
+            pass
+
+    def _on_signal(self, signum, frame) -> None:
+        """SIGINT/SIGTERM: note it; the loop checkpoints and stops at the end of the chunk
+        (a second signal in a serial run stops at once)."""
+        if self._signal and self.comm.size == 1:
+            raise KeyboardInterrupt
+        self._signal = signum
+
+    def _run(self, wall0: float) -> RunResult:
         self.setup()
         case = self.case
+        restored = self._restore() if self.resume else None
         self.say(f"{case.case.name}: {self.sim.n if self.sim is not None else '?'} particles, "
                  f"{len(case.walls)} walls, {len(self.structures)} structure(s) "
                  f"{', '.join(f'{s.name} (n_sub {s.n_sub})' for s in self.structures)}; "
                  f"dt = {self.dt:.3g} s, {self.n_total} steps ({self.n_total * self.dt:g} s)"
                  f"{' [quick]' if self.quick else ''} -> {self.out}")
-        self._open_outputs()
-        n_out = 0
+        self._open_outputs(restored)
         try:
-            for st in self.structures:
-                st.begin()
-            for m in case.monitors:
-                self._sample(m, 0.0)
-            self._output(0.0, n_out)
-            k = 0
+            if restored is None:
+                n_out = 0
+                for st in self.structures:
+                    st.begin()
+                for m in case.monitors:
+                    self._sample(m, 0.0)
+                self._output(0.0, n_out)
+                k = 0
+            else:
+                k, n_out = int(restored["runner.k"]), int(restored["runner.n_out"])
+                self.say(f"resumed at t = {k * self.dt:.6g} s (step {k}) from "
+                         f"{self.out / 'checkpoints'}")
+            self._ckpt_step, self._ckpt_wall = k, time.perf_counter()
+            self._catch_signals()
             while k < self.n_total:
                 nxt = min([self.n_total] + [(k // e + 1) * e for e in self.every.values()]
                           + [j for j in self.motion_events if j > k])
@@ -387,12 +518,144 @@ class Runner:
                     n_out += 1
                     self._output(t, n_out, last=k == self.n_total)
                     self._progress(k, wall0)
+                if k < self.n_total:
+                    self._maybe_checkpoint(k, n_out)
+            self._release_signals()
+            if self._signal:       # it came during the last chunk: the run is complete
+                self.say("the run completed before the interruption took effect")
         finally:
             if self.is_root and self._pw is not None:
                 self._pw.close()
             for st in self.structures:
                 st.close()
         return self._finish(wall0)
+
+    # ------------------------------------------------------------------ checkpoints
+    def _maybe_checkpoint(self, k: int, n_out: int) -> None:
+        """At the end of a chunk (collective): checkpoint when due or signalled; after a
+        signal raise :class:`RunInterrupted` on every rank."""
+        due = "checkpoint" in self.every and k % self.every["checkpoint"] == 0
+        minutes = self.case.run.checkpoint_minutes
+        wall_due = (self.is_root and minutes > 0
+                    and time.perf_counter() - self._ckpt_wall >= 60.0 * minutes)
+        flags = np.array([self._signal, wall_due], np.int64)
+        if self.comm.size > 1:
+            from mpi4py import MPI
+            agreed = np.empty_like(flags)
+            self.comm.Allreduce(flags, agreed, op=MPI.MAX)
+            flags = agreed
+        signum = int(flags[0])
+        if (due or flags[1] or signum) and self._ckpt_step != k:
+            self.write_checkpoint(k, n_out)
+        if signum:
+            raise RunInterrupted(signum, k * self.dt, self.out)
+
+    def state(self, k: int, n_out: int) -> dict:
+        """This rank's checkpoint arrays at loop step ``k``: ``runner.*`` (k, output count),
+        ``mon.<monitor>.<column>`` (the series so far), ``pvd.*`` (output series times),
+        ``fem.<structure>.writes``, ``frames`` (pending picture jobs, rank 0), ``dem.*``
+        (:meth:`gsi.dem.simulation.Simulation.state`, rank 0) and
+        ``st.<structure>.*`` (:meth:`gsi.coupling.structure.CoupledStructure.state`)."""
+        from gsi.checkpoint import pack
+        d = {"runner.k": np.int64(k), "runner.n_out": np.int64(n_out),
+             "runner.n_total": np.int64(self.n_total), "runner.dt": np.float64(self.dt)}
+        for st in self.structures:
+            d[f"fem.{st.name}.writes"] = np.int64(st.n_writes)
+            d.update({f"st.{st.name}.{key}": v for key, v in st.state().items()})
+        if self.is_root:
+            for name, rec in self._mon.items():
+                for c, v in rec.items():
+                    d[f"mon.{name}.{c}"] = np.asarray(v)
+            if self._pw is not None:
+                d["pvd.particles"] = np.array([t for t, _ in self._pw.entries], np.float64)
+            for i, series in enumerate(self._wall_series):
+                d[f"pvd.walls.{i}"] = np.array([t for t, _ in series._pvd.entries], np.float64)
+            if self._frames:
+                arrays = {}
+                d["frames"] = np.array(json.dumps(pack(self._frames, arrays, "frame.")))
+                d.update(arrays)
+            d.update({f"dem.{key}": v for key, v in self.sim.state().items()})
+        return d
+
+    def write_checkpoint(self, k: int, n_out: int) -> None:
+        """Write the checkpoint of loop step ``k`` (collective; see :mod:`gsi.checkpoint`)."""
+        from gsi import checkpoint as ck
+        t0 = time.perf_counter()
+        directory = self.out / "checkpoints"
+        err, size = None, 0
+        try:
+            if self.is_root:
+                directory.mkdir(exist_ok=True)
+            if self.comm.size > 1:
+                self.comm.barrier()
+            size = ck.write_npz(ck.rank_file(directory, k, self.comm.rank), self.state(k, n_out))
+        except OSError as exc:
+            err = f"checkpoint at t = {k * self.dt:.6g} s: cannot write {directory} ({exc})"
+        gathered = self.comm.allgather((err, size)) if self.comm.size > 1 else [(err, size)]
+        errors = [e for e, _ in gathered if e]
+        if errors:
+            raise _agreed(GsiRunError(errors[0]))
+        if self.is_root:
+            try:
+                ck.write_manifest(directory, k, dict(
+                    time=k * self.dt, n_ranks=self.comm.size, dt=self.dt,
+                    case=self.case.case.name, quick=self.quick,
+                    sizes=[s for _, s in gathered]))
+                ck.prune(directory)
+            except OSError as exc:
+                err = f"checkpoint at t = {k * self.dt:.6g} s: cannot write {directory} ({exc})"
+        err = self._agree(GsiRunError(err) if err else None)
+        if err:
+            raise err
+        self._ckpt_step, self._ckpt_wall = k, time.perf_counter()
+        self.checkpoint_seconds.append(time.perf_counter() - t0)
+
+    def _restore(self) -> dict:
+        """Load the newest valid checkpoint into the built case (collective); returns its
+        arrays."""
+        from gsi import checkpoint as ck
+        directory = self.out / "checkpoints"
+        info = ck.newest(directory) if self.is_root else None
+        if self.comm.size > 1:
+            info = self.comm.bcast(info, root=self.root)
+        if info is None:
+            raise _agreed(GsiInputError(f"--resume: no complete checkpoint under {directory}; run "
+                                "without --resume (or with --checkpoint-every S)"))
+        if info["n_ranks"] != self.comm.size:
+            raise _agreed(GsiInputError(
+                f"--resume: the checkpoint at t = {info['time']:.6g} s was written by "
+                f"{info['n_ranks']} MPI rank(s), this run has {self.comm.size}; resume with "
+                f"mpirun -n {info['n_ranks']} (or serially for 1)"))
+        if info.get("quick", self.quick) != self.quick:
+            raise _agreed(GsiInputError(f"--resume: the checkpoint was written by a run "
+                                f"{'with' if info['quick'] else 'without'} --quick; "
+                                "resume with the same options"))
+        err = None
+        try:
+            d = ck.read_npz(ck.rank_file(directory, info["step"], self.comm.rank))
+            if float(d["runner.dt"]) != self.dt or int(d["runner.k"]) > self.n_total:
+                raise GsiInputError(
+                    f"--resume: the checkpoint (dt = {float(d['runner.dt']):.6g} s, step "
+                    f"{int(d['runner.k'])}) does not belong to this case (dt = {self.dt:.6g} s, "
+                    f"{self.n_total} steps); resume with the case that wrote it")
+            if self.is_root:
+                self.sim.set_state({key[4:]: v for key, v in d.items()
+                                    if key.startswith("dem.")})
+            for st in self.structures:
+                p = f"st.{st.name}."
+                st.set_state({key[len(p):]: v for key, v in d.items() if key.startswith(p)})
+        except GsiInputError as exc:
+            err = str(exc)
+        except (OSError, KeyError, ValueError) as exc:
+            err = (f"--resume: cannot read the checkpoint at t = {info['time']:.6g} s "
+                   f"({type(exc).__name__}: {exc}); it does not match this case")
+        errors = self.comm.allgather(err) if self.comm.size > 1 else [err]
+        errors = [e for e in errors if e]
+        if errors:
+            raise _agreed(GsiInputError(errors[0]))
+        if self.is_root:
+            ck.clear_newer(directory, info["step"])
+        return d
 
     # ------------------------------------------------------------------ results
     def _finish(self, wall0: float) -> RunResult:
@@ -423,6 +686,11 @@ class Runner:
                             monitors=monitors, structures=structures, summary={},
                             wall_clock=time.perf_counter() - wall0, files=files)
             res.summary = self._summary(res)
+            if self.checkpoint_seconds:
+                spent = sum(self.checkpoint_seconds)
+                self.say(f"checkpoints: {len(self.checkpoint_seconds)} written in {spent:.3f} s "
+                         f"({100 * spent / res.wall_clock:.2f} % of the {res.wall_clock:.1f} s "
+                         f"wall time; the longest {max(self.checkpoint_seconds):.3f} s)")
         res = self.comm.bcast(res, root=self.root)
         return res
 
@@ -493,8 +761,30 @@ class Runner:
                         for k, v in keys.items())
         self.say(text)
         self.say(last)
-        (self.out / "summary.txt").write_text(text + "\n" + last + "\n")
+        from gsi.checkpoint import write_atomic
+        write_atomic(self.out / "summary.txt", text + "\n" + last + "\n", fsync=False)
         return keys
+
+
+def _agreed(exc):
+    """Mark an error that every rank raises alike (rank 0 alone reports it)."""
+    exc.agreed = True
+    return exc
+
+
+def _restore_series(writer, times) -> None:
+    """A ParticleWriter-like series (``dir``, ``prefix``, ``entries``, ``_write_pvd``)
+    continued from an earlier run: its first len(times) entries, later files removed."""
+    times = [float(t) for t in times]
+    writer.entries = [(t, f"{writer.prefix}_{i:06d}.vtu") for i, t in enumerate(times)]
+    pattern = re.compile(rf"^{re.escape(writer.prefix)}_(\d{{6}})\.vtu")
+    for p in writer.dir.iterdir():
+        m = pattern.match(p.name)
+        if (m is not None and int(m.group(1)) >= len(times)) or re.search(r"\.tmp\d+$",
+                                                                           p.name):
+            p.unlink(missing_ok=True)
+    writer._write_pvd()
+
 
 
 #: what a run writes in its output directory: these directories (any one of them, or
@@ -515,12 +805,13 @@ def previous_outputs(out: pathlib.Path) -> list[pathlib.Path]:
     return dirs + files
 
 
-def _output_dir(out, comm, *, overwrite: bool = False) -> pathlib.Path:
+def _output_dir(out, comm, *, overwrite: bool = False, resume: bool = False) -> pathlib.Path:
     """Create the output directory (rank 0) or raise a one-line error on every rank.
 
     A directory holding an earlier run's outputs (:func:`previous_outputs`) is refused
     unless ``overwrite``, which removes those outputs first (other files stay), so that no
-    stale file of the earlier run is left in a series."""
+    stale file of the earlier run is left in a series, or ``resume``, which continues them
+    (the runner truncates each series to the checkpoint)."""
     import shutil
     msg = None
     if out is None or str(out).strip() == "":
@@ -531,11 +822,13 @@ def _output_dir(out, comm, *, overwrite: bool = False) -> pathlib.Path:
             try:
                 out.mkdir(parents=True, exist_ok=True)
                 old = previous_outputs(out)
-                if old and not overwrite:
+                if resume and overwrite:
+                    msg = "--resume and --overwrite: give one (continue or start again)"
+                elif old and not overwrite and not resume:
                     msg = (f"--out = {str(out)!r}: holds the outputs of an earlier run "
                            f"({', '.join(f.name for f in old[:3])}{', ...' if len(old) > 3 else ''}); "
                            "add --overwrite to replace them or give another directory")
-                for f in old if overwrite else ():
+                for f in old if overwrite and not resume else ():
                     if f.is_dir():
                         shutil.rmtree(f)
                     else:
@@ -559,19 +852,30 @@ def _output_dir(out, comm, *, overwrite: bool = False) -> pathlib.Path:
 
 
 def run_case(case, *, out, quick: bool = False, pictures: bool | None = None,
-             verbose: bool = True, overwrite: bool = False) -> RunResult:
+             verbose: bool = True, overwrite: bool = False, resume: bool = False,
+             checkpoint_every: float | None = None) -> RunResult:
     """Run a case (a :class:`gsi.case.Case` or a path to a case file) into ``out``.
 
     ``overwrite``: replace an earlier run's outputs in ``out`` (else such a directory is
-    refused). A failure to write (a full disk, a quota, a vanished directory) or to
+    refused); ``resume``: continue from the newest checkpoint in ``out``;
+    ``checkpoint_every``: simulated seconds between checkpoints (overrides the case). Input
+    errors found before the run are the same on every MPI rank (marked so: rank 0 alone
+    reports them). A failure to write (a full disk, a quota, a vanished directory) or to
     allocate stops the run with a one-line :class:`gsi.errors.GsiRunError`; the files
     written so far stay, half-written temporary files are removed."""
     if not hasattr(case, "run"):
         from gsi.case import load_case
-        case = load_case(case)
+        try:
+            case = load_case(case)
+        except GsiInputError as exc:
+            raise _agreed(exc)
     try:
-        return Runner(case, out=out, quick=quick, pictures=pictures, verbose=verbose,
-                      overwrite=overwrite).run()
+        runner = Runner(case, out=out, quick=quick, pictures=pictures, verbose=verbose,
+                        overwrite=overwrite, resume=resume, checkpoint_every=checkpoint_every)
+    except GsiInputError as exc:
+        raise _agreed(exc)
+    try:
+        return runner.run()
     except OSError as exc:
         _remove_temporaries(out)
         where = exc.filename or f"under {out}"

@@ -43,6 +43,13 @@ class Run:
         doc="heat-capacity scaling s: particle c_p and structure c are divided by s, so every "
             "thermal time constant shrinks by s (temperatures at t are those at s t)")
     progress: bool = param(True, doc="print a progress line (simulated time, rate, ETA)")
+    checkpoint_interval: float = param(
+        0.0, unit="s", check=nonnegative(),
+        doc="simulated time between checkpoints in <out>/checkpoints (0 = none; one is "
+            "always written on SIGINT/SIGTERM; gsi run --checkpoint-every overrides)")
+    checkpoint_minutes: float = param(
+        0.0, unit="min", check=nonnegative(),
+        doc="wall-clock minutes between checkpoints (0 = none)")
 
 
 @dataclass(kw_only=True)

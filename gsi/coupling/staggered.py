@@ -361,6 +361,37 @@ class StaggeredCoupling:
         """The records as arrays: {column: ndarray}."""
         return {c: np.array([getattr(r, c) for r in self.records]) for c in CSV_COLUMNS}
 
+    # ------------------------------------------------------------------ checkpoints
+    def state(self) -> dict:
+        """This rank's coupling state as plain arrays (for checkpoints): counters, time
+        (s), work (J), the last loads (N), the wall displacement it holds, the records
+        (``rec.<column>``) and whether an interval is open (with its DEM start step).
+        The elasticity's state is saved by its owner (:class:`CoupledStructure`)."""
+        d = {f"rec.{c}": np.array([getattr(r, c) for r in self.records],
+                                  np.int64 if c in _INT_COLUMNS else np.float64)
+             for c in CSV_COLUMNS}
+        d.update(counters=np.array([self.step_count, self._t_begin is not None,
+                                    getattr(self, "_dem_step0", -1)], np.int64),
+                 scalars=np.array([self.t, self.work], np.float64),
+                 last_loads=self.last_loads.copy(), u=np.array(self._u))
+        return d
+
+    def set_state(self, d: dict) -> None:
+        """Restore :meth:`state` (no MPI call, nothing recomputed)."""
+        self.step_count, is_open, dem_step0 = (int(v) for v in d["counters"])
+        self.t, self.work = (float(v) for v in d["scalars"])
+        self.last_loads = np.array(d["last_loads"])
+        self._u = np.array(d["u"])
+        cols = {c: d[f"rec.{c}"].tolist() for c in CSV_COLUMNS}
+        self.records = [CouplingRecord(**{c: cols[c][i] for c in CSV_COLUMNS})
+                        for i in range(len(cols["step"]))]
+        self._t_begin = time.perf_counter() if is_open else None
+        if self.is_root and dem_step0 >= 0:
+            self._dem_step0 = dem_step0
+
+
+_INT_COLUMNS = ("step", "n_particles", "n_loaded_triangles")
+
 
 def _fmt(v):
     return f"{v:.12g}" if isinstance(v, float) else str(v)

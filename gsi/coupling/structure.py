@@ -240,24 +240,91 @@ class CoupledStructure:
                        drift_max=float(np.abs(h["drift"]).max()))
         return out
 
+    # ------------------------------------------------------------------ checkpoints
+    def state(self) -> dict:
+        """This rank's state as plain arrays (for checkpoints): the elasticity's
+        (``el.*``: owned u, v, a, the previous load vector, t, n_steps; plus the nodal
+        loads it holds and the temperature of its thermal strain) and the heat
+        problem's (``heat.*``: owned T, the previous step's T, the nodal heat loads,
+        t, n_steps), and the couplings' (``mech.*``, ``therm.*``: records, work, step
+        counters, last loads, surface temperatures, energy baseline, open interval).
+        Restore with :meth:`set_state` on the structure built from the same case and
+        number of ranks."""
+        from gsi.fem import compat
+        d = {}
+        if self.elasticity is not None:
+            el = self.elasticity
+            d.update({f"el.{k}": v for k, v in el.state().items()})
+            d["el.nodal"] = el.nodal.values.copy()
+            d["el.T"] = el.T.x.array[:compat.dof_index_map(el.Q)[0].size_local].copy()
+        if self.heat is not None:
+            h = self.heat
+            d.update({f"heat.{k}": v for k, v in h.state().items()})
+            d["heat.nodal"] = h.nodal.values.copy()
+            d["heat.T_old"] = h.T_old.x.array[:compat.dof_index_map(h.V)[0].size_local].copy()
+        for prefix, c in (("mech", self.mechanics), ("therm", self.thermal)):
+            if c is not None:
+                d.update({f"{prefix}.{k}": v for k, v in c.state().items()})
+        return d
+
+    def set_state(self, d: dict) -> None:
+        """Restore :meth:`state` (collective: the FE fields are scattered to the ghosts)."""
+        from gsi.fem import compat
+
+        def part(prefix):
+            return {k[len(prefix) + 1:]: v for k, v in d.items() if k.startswith(prefix + ".")}
+        if self.elasticity is not None:
+            el, st = self.elasticity, part("el")
+            nodal, T = st.pop("nodal"), st.pop("T")
+            el.set_state(st)
+            el.nodal.values[:] = nodal
+            el.T.x.array[:len(T)] = T
+            compat.scatter_forward(el.T)
+        if self.heat is not None:
+            h, st = self.heat, part("heat")
+            nodal, T_old = st.pop("nodal"), st.pop("T_old")
+            h.set_state(st)
+            h.nodal.values[:] = nodal
+            h.T_old.x.array[:len(T_old)] = T_old
+            compat.scatter_forward(h.T_old)
+        if self.mechanics is not None:
+            self.mechanics.set_state(part("mech"))
+        if self.thermal is not None:
+            self.thermal.set_state(part("therm"))
+
     # ------------------------------------------------------------------ output
-    def open_output(self, out_dir, *, xdmf: bool = True) -> None:
+    def open_output(self, out_dir, *, xdmf: bool = True, resume: int | None = None) -> None:
         """Write under ``out_dir``: ``<name>.xdmf`` (+ .h5) and ``<name>.csv`` at every
         :meth:`write_output` (:class:`gsi.fem.output.FemOutput`), and every interval's
         records to ``<name>_coupling.csv`` (mechanical) and ``<name>_energy.csv``
-        (thermal). Collective."""
+        (thermal). Collective. ``resume=n`` (after :meth:`set_state`) continues the files
+        of an earlier run: the first n field writes and as many coupling rows as there are
+        records are kept, later ones dropped."""
         from gsi.fem.output import FemOutput
         self._out_dir = pathlib.Path(out_dir)
+        self._resume = resume is not None
         self._fem_out = FemOutput(self._out_dir, elasticity=self.elasticity, heat=self.heat,
-                                  prefix=self.name, xdmf=xdmf)
+                                  prefix=self.name, xdmf=xdmf, resume=resume)
         if self.mechanics is not None or self.thermal is not None:
             self._open_csvs()
 
     def _open_csvs(self) -> None:
-        if self.mechanics is not None:
-            self.mechanics.open_csv(self._out_dir / f"{self.name}_coupling.csv")
-        if self.thermal is not None:
-            self.thermal.open_csv(self._out_dir / f"{self.name}_energy.csv")
+        from gsi.checkpoint import truncate_csv
+        for c, suffix in ((self.mechanics, "coupling"), (self.thermal, "energy")):
+            if c is None:
+                continue
+            path = self._out_dir / f"{self.name}_{suffix}.csv"
+            if getattr(self, "_resume", False):
+                c.csv_path = path
+                if c.is_root:
+                    truncate_csv(path, len(c.records))
+            else:
+                c.open_csv(path)
+
+    @property
+    def n_writes(self) -> int:
+        """Field writes so far (0 without output)."""
+        return 0 if self._fem_out is None else self._fem_out.n_writes
 
     def write_output(self, t: float) -> dict:
         """Append the fields at time ``t`` (s) and a row of ``<name>.csv`` (collective).

@@ -391,6 +391,41 @@ class ThermalCoupling:
         """The records as arrays: {column: ndarray}."""
         return {c: np.array([getattr(r, c) for r in self.records]) for c in CSV_COLUMNS}
 
+    # ------------------------------------------------------------------ checkpoints
+    def state(self) -> dict:
+        """This rank's coupling state as plain arrays (for checkpoints): counters, time
+        (s), cumulative boundary loss and plane heat (J), the energy baseline (J; nan
+        before the first interval), the surface temperatures, the records
+        (``rec.<column>``) and the open interval (the planes' heat totals at its start).
+        The heat problem's state is saved by its owner (:class:`CoupledStructure`)."""
+        d = {f"rec.{c}": np.array([getattr(r, c) for r in self.records],
+                                  np.int64 if c in ("step", "n_particles", "n_contacts")
+                                  else np.float64)
+             for c in CSV_COLUMNS}
+        iv = self._interval
+        planes0 = iv["planes0"] if iv is not None and iv["planes0"] is not None else []
+        d.update(counters=np.array([self.step_count, iv is not None,
+                                    iv is not None and iv["planes0"] is not None,
+                                    getattr(self, "_dem_step0", -1)], np.int64),
+                 scalars=np.array([self.t, self._cum_loss, self._cum_planes,
+                                   math.nan if self._E0 is None else self._E0], np.float64),
+                 T_surf=np.array(self._T_surf), planes0=np.array(planes0, np.float64))
+        return d
+
+    def set_state(self, d: dict) -> None:
+        """Restore :meth:`state` (no MPI call, nothing recomputed)."""
+        self.step_count, is_open, has_planes, dem_step0 = (int(v) for v in d["counters"])
+        self.t, self._cum_loss, self._cum_planes, E0 = (float(v) for v in d["scalars"])
+        self._E0 = None if math.isnan(E0) else E0
+        self._T_surf = np.array(d["T_surf"])
+        cols = {c: d[f"rec.{c}"].tolist() for c in CSV_COLUMNS}
+        self.records = [CouplingStep(**{c: cols[c][i] for c in CSV_COLUMNS})
+                        for i in range(len(cols["step"]))]
+        self._interval = (dict(planes0=d["planes0"].tolist() if has_planes else None)
+                          if is_open else None)
+        if self.is_root and dem_step0 >= 0:
+            self._dem_step0 = dem_step0
+
 
 def _particle_energy(sim, T_ref):
     """(sum m c_p (T - T_ref) (J), m c_p-weighted mean T, max T) of the DEM particles."""

@@ -324,3 +324,17 @@ class Inserter:
                                                material=self.material, v=self.velocity, T=self.T))
         self.n_inserted += len(placed_x)
         return len(placed_x)
+
+    # ------------------------------------------------------------------ checkpoints
+    def state(self):
+        """Counters, start time (s) and inserted ids as plain arrays (for checkpoints;
+        the random generator is the simulation's, saved with it)."""
+        return {"counters": np.array([self.n_attempted, self.n_inserted, self.n_skipped],
+                                     np.int64),
+                "start": np.array(self.start, np.float64), "ids": self.ids.copy()}
+
+    def set_state(self, d):
+        """Restore :meth:`state`."""
+        self.n_attempted, self.n_inserted, self.n_skipped = (int(v) for v in d["counters"])
+        self.start = float(d["start"])
+        self._ids = [np.array(d["ids"], np.int64)] if len(d["ids"]) else []
