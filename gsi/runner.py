@@ -898,8 +898,9 @@ def _remove_temporaries(out) -> None:
 
 def demo_main(case, *, description: str = "", argv=None) -> RunResult | None:
     """The command line of a demo script: ``python demos/<name>.py [--quick] [--out DIR]
-    [--no-pictures]``; runs ``case`` and returns its result (None after an error, which is
-    printed as one line, exit status 2 for bad input and 3 for a run that stopped)."""
+    [--no-pictures] [--overwrite | --resume] [--checkpoint-every S]``, the options of ``gsi
+    run``; runs ``case`` and returns its result. Errors print one line: exit status 2 for
+    bad input, 3 for a run that stopped, 130/143 after SIGINT/SIGTERM (checkpoint written)."""
     import argparse
     import sys
     parser = argparse.ArgumentParser(description=description)
@@ -908,14 +909,23 @@ def demo_main(case, *, description: str = "", argv=None) -> RunResult | None:
     parser.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace the outputs of an earlier run in --out")
+    parser.add_argument("--resume", action="store_true",
+                        help="continue from the newest checkpoint under OUT/checkpoints")
+    parser.add_argument("--checkpoint-every", type=float, default=None, metavar="S",
+                        help="checkpoint every S simulated seconds")
     args = parser.parse_args(argv)
     out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
     try:
         return run_case(case, out=out, quick=args.quick,
-                        pictures=False if args.no_pictures else None, overwrite=args.overwrite)
+                        pictures=False if args.no_pictures else None, overwrite=args.overwrite,
+                        resume=args.resume, checkpoint_every=args.checkpoint_every)
     except GsiInputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         sys.exit(2)
     except GsiRunError as exc:
-        print(f"run stopped: {exc}", file=sys.stderr)
+        print(f"run stopped: {' '.join(str(exc).split())}", file=sys.stderr)
         sys.exit(3)
+    except RunInterrupted as exc:
+        print(f"interrupted at t = {exc.time:.6g} s; checkpoint written; resume with "
+              f"python {' '.join(sys.argv)} --resume", file=sys.stderr)
+        sys.exit(exc.exit_code)
