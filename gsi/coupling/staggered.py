@@ -58,7 +58,6 @@ since each touches only its own wall's accumulators.
 """
 from __future__ import annotations
 
-import csv
 import dataclasses
 import math
 import pathlib
@@ -67,6 +66,7 @@ import time
 import numpy as np
 from mpi4py import MPI
 
+from gsi.coupling.records import RecordLog
 from gsi.errors import GsiInputError
 
 __all__ = ["StaggeredCoupling", "CouplingRecord", "lowest_period", "choose_n_sub"]
@@ -142,7 +142,7 @@ class CouplingRecord:
 CSV_COLUMNS = [f.name for f in dataclasses.fields(CouplingRecord)]
 
 
-class StaggeredCoupling:
+class StaggeredCoupling(RecordLog):
     """Staggered DEM <-> elastic structure coupling through one contact surface.
 
     Parameters
@@ -195,6 +195,8 @@ class StaggeredCoupling:
     the linear structure stays at rest exactly (filling phases cost no FE time).
     """
 
+    RECORD = CouplingRecord
+
     def __init__(self, sim, elasticity, *, wall_material: str, n_sub: int,
                  tag="contact", relaxation: float = 1.0, root: int = 0,
                  csv_path=None, interface=None):
@@ -226,23 +228,13 @@ class StaggeredCoupling:
         self.wall = itf.make_wall(sim, material=wall_material) if self.is_root else None
         self._u = itf.displacement()
         self._sync_wall(self._u, itf.velocity())
-        self.records: list[CouplingRecord] = []
         self.step_count = 0
         self.t = 0.0
         self.work = 0.0
         self.last_loads = np.zeros((itf.n_nodes, 3))
         self._t_begin = None
-        self.csv_path = None
-        if csv_path is not None:
-            self.open_csv(csv_path)
+        self._init_log(csv_path)
 
-    def open_csv(self, path) -> None:
-        """Write the records from now on to the CSV file ``path`` (header now; rank root)."""
-        self.csv_path = pathlib.Path(path)
-        if self.is_root:
-            self.csv_path.parent.mkdir(parents=True, exist_ok=True)
-            with self.csv_path.open("w", newline="") as fh:
-                csv.writer(fh).writerow(CSV_COLUMNS)
 
     def _sync_wall(self, u, v) -> None:
         if self.is_root:
@@ -343,11 +335,7 @@ class StaggeredCoupling:
             work=self.work, max_deflection=float(umag.max()), min_uz=float(u[:, 2].min()),
             n_particles=n_particles, n_loaded_triangles=n_contacts,
             wall_dem=t_dem, wall_fe=t_fe, wall_transfer=t_transfer)
-        self.records.append(rec)
-        if self.csv_path is not None and self.is_root:
-            with self.csv_path.open("a", newline="") as fh:
-                csv.writer(fh).writerow([_fmt(getattr(rec, c)) for c in CSV_COLUMNS])
-        return rec
+        return self._log(rec)
 
     def run(self, n_steps: int, *, callback=None):
         """``n_steps`` coupling steps; ``callback(self, record)`` after each (all ranks)."""
@@ -357,19 +345,13 @@ class StaggeredCoupling:
                 callback(self, rec)
         return self.records
 
-    def history(self) -> dict:
-        """The records as arrays: {column: ndarray}."""
-        return {c: np.array([getattr(r, c) for r in self.records]) for c in CSV_COLUMNS}
-
     # ------------------------------------------------------------------ checkpoints
     def state(self) -> dict:
         """This rank's coupling state as plain arrays (for checkpoints): counters, time
         (s), work (J), the last loads (N), the wall displacement it holds, the records
         (``rec.<column>``) and whether an interval is open (with its DEM start step).
         The elasticity's state is saved by its owner (:class:`CoupledStructure`)."""
-        d = {f"rec.{c}": np.array([getattr(r, c) for r in self.records],
-                                  np.int64 if c in _INT_COLUMNS else np.float64)
-             for c in CSV_COLUMNS}
+        d = self._records_state()
         d.update(counters=np.array([self.step_count, self._t_begin is not None,
                                     getattr(self, "_dem_step0", -1)], np.int64),
                  scalars=np.array([self.t, self.work], np.float64),
@@ -382,16 +364,9 @@ class StaggeredCoupling:
         self.t, self.work = (float(v) for v in d["scalars"])
         self.last_loads = np.array(d["last_loads"])
         self._u = np.array(d["u"])
-        cols = {c: d[f"rec.{c}"].tolist() for c in CSV_COLUMNS}
-        self.records = [CouplingRecord(**{c: cols[c][i] for c in CSV_COLUMNS})
-                        for i in range(len(cols["step"]))]
+        self._set_records_state(d)
         self._t_begin = time.perf_counter() if is_open else None
         if self.is_root and dem_step0 >= 0:
             self._dem_step0 = dem_step0
 
 
-_INT_COLUMNS = ("step", "n_particles", "n_loaded_triangles")
-
-
-def _fmt(v):
-    return f"{v:.12g}" if isinstance(v, float) else str(v)

@@ -67,7 +67,6 @@ Split step: :meth:`ThermalCoupling.step` is :meth:`~ThermalCoupling.begin`,
 """
 from __future__ import annotations
 
-import csv
 import dataclasses
 import math
 import pathlib
@@ -75,6 +74,7 @@ import pathlib
 import numpy as np
 from mpi4py import MPI
 
+from gsi.coupling.records import RecordLog
 from gsi.errors import GsiInputError
 
 __all__ = ["ThermalCoupling", "CouplingStep", "scale_heat_capacity", "particle_heat_capacity"]
@@ -124,7 +124,7 @@ class CouplingStep:
 CSV_COLUMNS = [f.name for f in dataclasses.fields(CouplingStep)]
 
 
-class ThermalCoupling:
+class ThermalCoupling(RecordLog):
     """Staggered DEM <-> FE heat (and thermo-elastic) coupling through one contact surface.
 
     Parameters
@@ -163,6 +163,8 @@ class ThermalCoupling:
     csv_path : path, optional
         Write the per-step records there as CSV (rank ``root``).
     """
+
+    RECORD = CouplingStep
 
     def __init__(self, sim, heat, *, mechanics=None, interface=None,
                  wall_material: str | None = None, n_sub: int | None = None, tag="contact",
@@ -220,24 +222,14 @@ class ThermalCoupling:
             if self.is_root:
                 self.wall = itf.make_wall(sim, material=wall_material,
                                           vertex_temperature=itf.wall_temperature(self._T_surf))
-        self.records: list[CouplingStep] = []
         self.step_count = 0
         self.t = 0.0
         self._cum_loss = 0.0
         self._cum_planes = 0.0
         self._E0 = None
         self._interval = None
-        self.csv_path = None
-        if csv_path is not None:
-            self.open_csv(csv_path)
+        self._init_log(csv_path)
 
-    def open_csv(self, path) -> None:
-        """Write the records from now on to the CSV file ``path`` (header now; rank root)."""
-        self.csv_path = pathlib.Path(path)
-        if self.is_root:
-            self.csv_path.parent.mkdir(parents=True, exist_ok=True)
-            with self.csv_path.open("w", newline="") as fh:
-                csv.writer(fh).writerow(CSV_COLUMNS)
 
     @property
     def surface(self):
@@ -355,11 +347,7 @@ class ThermalCoupling:
             T_contact_max=float(self._T_surf.max()), T_particles_mean=info["T_pm"],
             T_particles_max=info["T_px"], max_von_mises=vm, max_displacement=disp,
             wall_force_z=info["Fz"], n_particles=info["n"], n_contacts=info["nc"])
-        self.records.append(rec)
-        if self.csv_path is not None and self.is_root:
-            with self.csv_path.open("a", newline="") as fh:
-                csv.writer(fh).writerow([_fmt(getattr(rec, c)) for c in CSV_COLUMNS])
-        return rec
+        return self._log(rec)
 
     def step(self) -> CouplingStep:
         """One coupling step (collective): :meth:`begin`, the DEM sub-cycle of ``n_sub``
@@ -387,10 +375,6 @@ class ThermalCoupling:
         local = float(vm.x.array[:ncell].max()) if ncell else 0.0
         return self.comm.allreduce(local, op=MPI.MAX)
 
-    def history(self) -> dict:
-        """The records as arrays: {column: ndarray}."""
-        return {c: np.array([getattr(r, c) for r in self.records]) for c in CSV_COLUMNS}
-
     # ------------------------------------------------------------------ checkpoints
     def state(self) -> dict:
         """This rank's coupling state as plain arrays (for checkpoints): counters, time
@@ -398,10 +382,7 @@ class ThermalCoupling:
         before the first interval), the surface temperatures, the records
         (``rec.<column>``) and the open interval (the planes' heat totals at its start).
         The heat problem's state is saved by its owner (:class:`CoupledStructure`)."""
-        d = {f"rec.{c}": np.array([getattr(r, c) for r in self.records],
-                                  np.int64 if c in ("step", "n_particles", "n_contacts")
-                                  else np.float64)
-             for c in CSV_COLUMNS}
+        d = self._records_state()
         iv = self._interval
         planes0 = iv["planes0"] if iv is not None and iv["planes0"] is not None else []
         d.update(counters=np.array([self.step_count, iv is not None,
@@ -418,9 +399,7 @@ class ThermalCoupling:
         self.t, self._cum_loss, self._cum_planes, E0 = (float(v) for v in d["scalars"])
         self._E0 = None if math.isnan(E0) else E0
         self._T_surf = np.array(d["T_surf"])
-        cols = {c: d[f"rec.{c}"].tolist() for c in CSV_COLUMNS}
-        self.records = [CouplingStep(**{c: cols[c][i] for c in CSV_COLUMNS})
-                        for i in range(len(cols["step"]))]
+        self._set_records_state(d)
         self._interval = (dict(planes0=d["planes0"].tolist() if has_planes else None)
                           if is_open else None)
         if self.is_root and dem_step0 >= 0:
@@ -436,6 +415,3 @@ def _particle_energy(sim, T_ref):
     return (float(np.sum(mcp * (T - T_ref))), float(np.sum(mcp * T) / mcp.sum()),
             float(T.max()))
 
-
-def _fmt(v):
-    return f"{v:.12g}" if isinstance(v, float) else str(v)
