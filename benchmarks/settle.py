@@ -43,7 +43,7 @@ def lattice_positions(seed=15485863):
     return x + rng.uniform(-5e-5, 5e-5, x.shape)
 
 
-def run_gsi(settle_steps, timed_steps):
+def run_gsi(settle_steps, timed_steps, save_state=None):
     import numpy as np
     from gsi.dem import Simulation, Material
     glass = Material(E=5e6, nu=0.3, rho=2500.0, e=0.5, mu=0.5)
@@ -66,6 +66,8 @@ def run_gsi(settle_steps, timed_steps):
     t0 = time.perf_counter()
     sim.step(timed_steps)
     t_timed = time.perf_counter() - t0
+    if save_state:
+        np.savez(save_state, x=sim.x, v=sim.v, omega=sim.omega)
     return dict(
         gsi_particle_steps_per_s=sim.n * timed_steps / t_timed,
         gsi_seconds=t_timed, gsi_settle_seconds=t_settle, gsi_first_step_seconds=t_first,
@@ -114,12 +116,14 @@ def main(argv=None):
     ap.add_argument("--vs-liggghts", action="store_true", help="also run LIGGGHTS (N ranks = threads)")
     ap.add_argument("--settle-steps", type=int, default=50000)
     ap.add_argument("--timed-steps", type=int, default=10000)
+    ap.add_argument("--save-state", default=None,
+                    help="write the final x, v, omega to this .npz (for benchmarks/settle_scale.py)")
     args = ap.parse_args(argv)
     import numba
     threads = args.threads or numba.config.NUMBA_NUM_THREADS
     numba.set_num_threads(threads)
     res = {"gsi_threads": threads}
-    res.update(run_gsi(args.settle_steps, args.timed_steps))
+    res.update(run_gsi(args.settle_steps, args.timed_steps, args.save_state))
     for k, v in res.items():
         print(f"{k} = {v}")
     if args.vs_liggghts:

@@ -418,6 +418,7 @@ class Simulation:
         self._realloc_field("plane_hist")
         self.plane_state = append_plane(self.plane_state, p, nrm / ln, vel, t,
                                         None if temperature is None else float(temperature))
+        self._need_rebuild = True        # the plane candidates of the particles
         wall = PlaneWall(self, len(self.planes), material)
         self.planes.append(wall)
         self._forces_valid = False
@@ -606,6 +607,9 @@ class Simulation:
             mc_hist = np.zeros((0, 3))
         self.pairs = Pairs(slab_start, slab_list, nb_start, nb_j, hist, pact, mc_start, mc_tri,
                            mc_hist)
+        pl = self.plane_state
+        nbr.plane_candidates(x, r, self.skin, pl.point, pl.normal, self._wa["plane_cand"][:n])
+        pl.point0[:] = pl.point
         self._built = True
         self._pa["x0"][:n] = x
         self._ids_at_build = ids.copy()
