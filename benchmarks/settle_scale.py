@@ -8,7 +8,8 @@ times side by side in a box widened to (84 kx) x (84 ky) mm: 1 x 1 (19,773), 5 x
 the unsettled lattice of settle.py (falling, few contacts: not representative).
 
 Each size runs in its own process (so its memory peak is its own): ``--warm-steps``
-steps (first neighbour build, JIT or cache load), then ``--steps`` timed steps.
+steps (first neighbour build, JIT or cache load), then ``--steps`` timed steps.  Rows
+are sorted at each neighbour build (``sort_particles``) unless ``--no-sort``.
 
 Usage::
 
@@ -54,12 +55,12 @@ def bed(kx, ky, state):
     return np.concatenate(xs), np.concatenate(vs), np.concatenate(ws)
 
 
-def run_one(kx, ky, state, warm, steps):
+def run_one(kx, ky, state, warm, steps, sort=True):
     from gsi.dem import Simulation, Material
     glass = Material(E=5e6, nu=0.3, rho=2500.0, e=0.5, mu=0.5)
     X, Y = kx * W, ky * W
     sim = Simulation({"glass": glass}, contact="hertz", gravity=(0, 0, -9.81), dt=2e-6,
-                     skin=4e-4, domain=((0, 0, 0), (X, Y, 0.3)))
+                     skin=4e-4, domain=((0, 0, 0), (X, Y, 0.3)), sort_particles=sort)
     x, v, w = bed(kx, ky, state)
     sim.add_particles(x, 0.001, material="glass", v=v, omega=w)
     for point, normal in [((0, 0, 0), (0, 0, 1)), ((0, 0, 0), (1, 0, 0)),
@@ -88,6 +89,7 @@ def main(argv=None):
     ap.add_argument("--max-n", type=int, default=1_100_000, help="skip sizes above this")
     ap.add_argument("--warm-steps", type=int, default=200)
     ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--no-sort", action="store_true", help="keep the rows in id order")
     ap.add_argument("--one", default=None, help=argparse.SUPPRESS)   # "kx,ky": child run
     args = ap.parse_args(argv)
     if args.one:
@@ -95,7 +97,8 @@ def main(argv=None):
         if args.threads:
             numba.set_num_threads(args.threads)
         kx, ky = map(int, args.one.split(","))
-        print(json.dumps(run_one(kx, ky, args.state, args.warm_steps, args.steps)))
+        print(json.dumps(run_one(kx, ky, args.state, args.warm_steps, args.steps,
+                                 not args.no_sort)))
         return 0
     res = {}
     for kx, ky in TILES:
@@ -108,6 +111,8 @@ def main(argv=None):
             cmd += ["--state", args.state]
         if args.threads:
             cmd += ["--threads", str(args.threads)]
+        if args.no_sort:
+            cmd += ["--no-sort"]
         r = subprocess.run(cmd, capture_output=True, text=True, check=True)
         d = json.loads(r.stdout.strip().splitlines()[-1])
         print(f"n = {d['n']}: {d['rate']:.4g} particle steps/s, {d['bytes']:.0f} bytes/particle, "

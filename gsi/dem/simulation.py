@@ -18,7 +18,8 @@ Usage::
 
 Particles are addressed by *id* (stable, returned by ``add_particles``); their row in
 the state arrays (``sim.x``, ``sim.v``, ... views of the first ``n`` rows) can change
-when particles are deleted; ``sim.index(ids)`` maps ids to rows.
+when particles are deleted, and, with ``sort_particles=True``, at every neighbour
+build; ``sim.index(ids)`` maps ids to rows.
 
 Choices made here (DESIGN.md is silent):
 
@@ -123,12 +124,18 @@ class Simulation:
     parallel_min_n : int, default 2000
         Below this many particles the kernels run on one thread (thread start-up
         costs more than it saves for small systems).
+    sort_particles : bool, default False
+        Re-order the particle rows at every neighbour build into the order the force
+        pass visits them (slab by slab, cell by cell): memory is then read nearly in
+        sequence (measured on the settle bed, 1 thread: +10 % at 20k particles, +20 %
+        at 200k, 3.9x against a random order).  Rows then change at every build:
+        address particles by id (``sim.index``), and ``sim.ids`` is not sorted.
     """
 
     def __init__(self, materials, *, contact="hertz", rolling=False, heat=None, h_c=None,
                  k_n=None, gravity=(0.0, 0.0, -9.81), dt, skin, domain, force_dt=False,
                  v_max=100.0, lost="delete", pair_overrides=None, seed=None,
-                 parallel_min_n=2000):
+                 parallel_min_n=2000, sort_particles=False):
         if not materials:
             raise GsiInputError("materials = {}: give at least one Material")
         for name, m in materials.items():
@@ -168,6 +175,7 @@ class Simulation:
                                 k_n=k_n or 0.0, h_c=h_c or 0.0, pair_overrides=self._overrides)
         self.rng = np.random.default_rng(seed)
         self.parallel_min_n = int(parallel_min_n)
+        self.sort_particles = bool(sort_particles)
         self.time = 0.0
         self.step_count = 0
         self.n = 0
@@ -307,12 +315,11 @@ class Simulation:
         return self._p("ncontact")
 
     def index(self, ids):
-        """Rows of the given particle ids (ids are sorted ascending in the arrays)."""
+        """Rows of the given particle ids."""
         ids = np.asarray(ids, np.int64)
-        rows = np.searchsorted(self.ids, ids)
-        rows = np.minimum(rows, max(self.n - 1, 0))
-        if self.n == 0 or (self.ids[rows] != ids).any():
-            raise GsiInputError(f"particle ids {ids[self.ids[rows] != ids][:5].tolist()}: not present (lost or never added)")
+        rows = _rows_of(self.ids, ids)
+        if (rows < 0).any():
+            raise GsiInputError(f"particle ids {ids[rows < 0][:5].tolist()}: not present (lost or never added)")
         return rows
 
     # ------------------------------------------------------------------ particles
@@ -564,6 +571,18 @@ class Simulation:
         s_lo, s_inv_w, nslab = nbr.slab_layout(x[:, axis], 2 * rmax + self.skin, threads)
         slab_of, slab_start, slab_list = nbr.slab_sort(n, x, cell_list, axis, s_lo, s_inv_w,
                                                        nslab)
+        if self.sort_particles and n:
+            # rows into visiting order: row m is the m-th particle the force pass visits
+            perm = slab_list
+            for store in (self._pa, self._wa):
+                for arr in store.values():
+                    arr[:n] = arr[:n][perm]
+            new_of_old = np.empty(n, np.int64)
+            new_of_old[perm] = np.arange(n)
+            cell_of = cell_of[perm]
+            slab_of = slab_of[perm]
+            cell_list = new_of_old[cell_list].astype(cell_list.dtype)
+            slab_list = np.arange(n, dtype=slab_list.dtype)
         counts = np.empty(n, np.int64)
         nbr.count_pairs(n, x, r, self.skin, cell_of, slab_of, cell_start, cell_list, dims, counts)
         nb_start = np.zeros(n + 1, np.int64)
@@ -574,13 +593,11 @@ class Simulation:
                        nb_start, nb_j)
         hist = np.zeros((npair, 3))
         pact = np.zeros(npair, np.uint8)
-        # new row -> old row through the (ascending) ids at the last build
+        # new row -> old row through the ids at the last build
         ids = self._pa["id"][:n]
         old = self.pairs
         if self._built and len(self._ids_at_build):
-            old_ids = self._ids_at_build
-            pos = np.minimum(np.searchsorted(old_ids, ids), len(old_ids) - 1)
-            old_of_new = np.where(old_ids[pos] == ids, pos, -1).astype(np.int64)
+            old_of_new = _rows_of(self._ids_at_build, ids)
             nbr.carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, old.start,
                                    old.j, old.hist, old.active)
         else:
@@ -718,3 +735,16 @@ class Simulation:
         """Bytes of all per-particle storage incl. neighbour lists and history."""
         b = sum(arr.nbytes for store in (self._pa, self._wa) for arr in store.values())
         return b + bundle_bytes(self.pairs)
+
+
+def _rows_of(ids, wanted):
+    """Rows of ``wanted`` ids in the id array ``ids`` (-1 where absent); ``ids`` are
+    unique, sorted or not."""
+    wanted = np.asarray(wanted, np.int64)
+    if len(ids) == 0:
+        return np.full(len(wanted), -1, np.int64)
+    order = None if np.all(ids[1:] > ids[:-1]) else np.argsort(ids, kind="stable")
+    srt = ids if order is None else ids[order]
+    pos = np.minimum(np.searchsorted(srt, wanted), len(srt) - 1)
+    rows = pos if order is None else order[pos]
+    return np.where(srt[pos] == wanted, rows, -1).astype(np.int64)
