@@ -86,6 +86,7 @@ from gsi.dem.state import (MAX_WALL_SLOTS, PARTICLE_FIELDS, WALL_CONTACT_FIELDS,
                            WallContacts, Pairs, append_plane, bundle_bytes, empty_mesh,
                            empty_pairs, empty_planes, mesh_bundle)
 
+
 class Simulation:
     """A DEM simulation (see the module docstring for the shape of the API).
 
@@ -363,7 +364,10 @@ class Simulation:
         if self.n + k > self._cap:
             self._alloc(max(2 * self._cap, self.n + k))
         s = slice(self.n, self.n + k)
-        a = self._pa
+        for store in (self._pa, self._wa):       # every field starts at 0 ...
+            for arr in store.values():
+                arr[s] = 0
+        a = self._pa                              # ... unless set here
         a["x"][s] = x
         a["v"][s] = 0.0 if v is None else np.broadcast_to(np.asarray(v, float), (k, 3))
         a["omega"][s] = 0.0 if omega is None else np.broadcast_to(np.asarray(omega, float), (k, 3))
@@ -380,10 +384,6 @@ class Simulation:
         a["x0"][s] = x
         ids = np.arange(self._next_id, self._next_id + k, dtype=np.int64)
         a["id"][s] = ids
-        for name in ("q", "ncontact"):
-            a[name][s] = 0
-        for arr in self._wa.values():
-            arr[s] = 0
         self._next_id += k
         self.n += k
         self._need_rebuild = True

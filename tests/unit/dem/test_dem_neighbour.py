@@ -180,3 +180,21 @@ def test_threads_give_the_serial_result(L, same_layout):
         np.testing.assert_allclose(b["plane"], a["plane"], rtol=1e-9)
         if same_layout:
             assert b["x"] == a["x"] and b["v"] == a["v"] and b["plane"] == a["plane"]
+
+
+def test_plane_moving_onto_particles_is_seen():
+    """A plane moving along its normal (a piston) reaches particles that were far from
+    it at the last build: plane motion counts in the rebuild criterion, so the plane
+    candidates of the particles are renewed before it arrives."""
+    L = 0.05
+    sim = Simulation(MAT, gravity=(0, 0, 0), dt=2e-6, skin=3e-4, domain=((0, 0, 0), (L, L, L)))
+    sim.add_particles([[0.02, 0.025, 0.025], [0.03, 0.025, 0.025]], 1e-3, material="m")
+    piston = sim.add_plane((0.005, 0, 0), (1, 0, 0), material="m", velocity=(1.0, 0, 0))
+    sim.step(1)
+    assert sim.wall_contacts.plane_cand.tolist() == [0, 0]
+    sim.step(9000)                   # the piston moves 18 mm: it meets the first particle
+    x_plane = piston.point[0]
+    assert x_plane > 0.022
+    assert sim.x[0, 0] - x_plane > 0.9e-3          # pushed ahead, never passed through
+    assert sim.v[0, 0] > 0.5
+    assert sim.n_rebuilds > 5
