@@ -11,7 +11,7 @@ setup:
 	@bash .ci/setup.sh
 
 demo: setup
-	$(MPIENV) $(PY) demos/$(DEMO).py --out $(OUT)/$(DEMO)
+	$(MPIENV) $(PY) -m gsi.cli run demos/$(DEMO).toml --out $(OUT)/$(DEMO) --overwrite
 
 test: setup
 	$(MPIENV) NUMBA_NUM_THREADS=2 $(PY) -m pytest -q -ra --durations=15 tests

@@ -94,10 +94,11 @@ def _snapshot_here(path: str | pathlib.Path, *, x: np.ndarray, radius: np.ndarra
         kw = dict(opacity=s.get("opacity", 1.0), show_edges=s.get("show_edges", False))
         if s.get("values") is not None:
             mesh[s.get("name", "value")] = np.asarray(s["values"])
+            bar = {"title": s.get("name", "value"), "vertical": True, "color": "black"}
+            if s.get("bar_x") is not None:
+                bar["position_x"] = s["bar_x"]
             plotter.add_mesh(mesh, scalars=s.get("name", "value"), cmap=s.get("cmap", "viridis"),
-                             clim=s.get("clim"), scalar_bar_args={"title": s.get("name", "value"),
-                                                                   "vertical": True,
-                                                                   "color": "black"}, **kw)
+                             clim=s.get("clim"), scalar_bar_args=bar, **kw)
         else:
             plotter.add_mesh(mesh, color=s.get("color", "lightgrey"), **kw)
     if box is not None:

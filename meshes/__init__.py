@@ -4,6 +4,10 @@
 >>> sm = meshes.build("membrane", shape="circle", radius=0.5, thickness=0.01, h=0.05)
 >>> sm.tags        # {'contact': 1, 'support': 2, 'outer': 3, 'volume': 100}
 
+A user's own gmsh ``.geo`` or ``.msh`` file with physical groups:
+``meshes.load_file("belt.geo", params={"length": 1.2})`` (:mod:`meshes.file`); ``belt.geo``
+here is such a file (a belt section with its own group names).
+
 Every builder returns a :class:`StructureMesh` (dolfinx mesh, cell and facet tags, and the
 name -> number map of its physical groups). Every builder tags at least "contact" (the
 surface the bulk solid touches), "support" (where it is held) and "outer"; "box" (the
@@ -12,11 +16,17 @@ validation bar) tags its six faces instead.
 from __future__ import annotations
 
 import inspect
+import pathlib
 
 from gsi.errors import GsiInputError
 
 from . import box, drum, hopper, membrane, silo
 from ._common import StructureMesh
+from .file import load as load_file
+from .file import physical_groups
+
+#: directory of the shipped gmsh files (belt.geo)
+DIR = pathlib.Path(__file__).resolve().parent
 
 BUILDERS = {
     "membrane": membrane.build,
@@ -26,7 +36,16 @@ BUILDERS = {
     "box": box.build,
 }
 
-__all__ = ["BUILDERS", "StructureMesh", "build"]
+#: surface groups each builder tags (without "volume")
+GROUPS = {
+    "membrane": list(membrane.NAMES),
+    "hopper": list(hopper.NAMES),
+    "silo": list(silo.NAMES),
+    "drum": list(drum.NAMES),
+    "box": list(box.FACES),
+}
+
+__all__ = ["BUILDERS", "StructureMesh", "build", "load_file", "physical_groups", "DIR", "GROUPS"]
 
 
 def build(name: str, **params) -> StructureMesh:

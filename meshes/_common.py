@@ -38,6 +38,8 @@ class StructureMesh:
         "volume": 100}``. Surface names are facet tags, "volume" is the cell tag.
     params : dict
         The parameters the mesh was built with (for output headers and restarts).
+    volumes : dict[str, int]
+        Volume (cell) group name -> number; builders have {"volume": 100}.
     """
 
     mesh: object
@@ -45,6 +47,7 @@ class StructureMesh:
     facet_tags: object
     tags: dict
     params: dict = field(default_factory=dict)
+    volumes: dict = field(default_factory=dict)
 
     def facet_tag(self, name: str) -> int:
         """Number of the surface group ``name``; raises GsiInputError if absent."""

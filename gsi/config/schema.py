@@ -187,16 +187,35 @@ def load(cls: type, table: dict, path: str = "") -> Any:
 
 
 def describe(cls: type, path: str = "") -> list[str]:
-    """One line per key: path, type, unit, default and doc (for ``gsi check --keys``)."""
+    """One line per key: path, type, unit, default and doc (for ``gsi check --keys``).
+
+    Arrays of tables show as ``walls[].kind``, tables of named tables as
+    ``materials.NAME.E``."""
     lines = []
     hints = typing.get_type_hints(cls)
     for f in dataclasses.fields(cls):
+        if not f.init:
+            continue
         tp, _ = _strip_optional(hints[f.name])
         p = f"{path}.{f.name}" if path else f.name
+        origin = typing.get_origin(tp)
+        args = typing.get_args(tp)
         if dataclasses.is_dataclass(tp):
             lines += describe(tp, p)
             continue
-        default = "" if f.default is dataclasses.MISSING else f" = {_fmt(f.default)}"
+        if origin is list and args and dataclasses.is_dataclass(args[0]):
+            lines.append(f"{p}[]  {f.metadata.get('doc', '')}".rstrip())
+            lines += describe(args[0], f"{p}[]")
+            continue
+        if origin is dict and len(args) == 2 and dataclasses.is_dataclass(args[1]):
+            lines += describe(args[1], f"{p}.NAME")
+            continue
+        if f.default is not dataclasses.MISSING:
+            default = f" = {_fmt(f.default)}"
+        elif f.default_factory is not dataclasses.MISSING:
+            default = f" = {_fmt(f.default_factory())}"
+        else:
+            default = " (required)"
         unit = f" [{f.metadata.get('unit')}]" if f.metadata.get("unit") else ""
         lines.append(f"{p}{default}{unit}  {f.metadata.get('doc', '')}".rstrip())
     return lines

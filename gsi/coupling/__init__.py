@@ -1,12 +1,17 @@
-"""DEM <-> FE coupling: the contact surface as a DEM wall, load transfer, staggered drivers.
+"""DEM <-> FE coupling: the contact surface as a DEM wall, load and heat transfer, staggering.
 
-* :class:`~gsi.coupling.interface.SurfaceInterface` -- the tagged FE surface as DEM wall
-  triangles (P1, or P2 split at its edge midpoints, loads by the P2 basis of the parent
-  face), gathered positions/velocities and scattered nodal loads.
+* :class:`~gsi.coupling.interface.SurfaceInterface` -- the one interface of a structure:
+  the tagged FE surface as DEM wall triangles (P1, or P2 split at its edge midpoints,
+  loads by the P2 basis of the parent face), gathered positions, velocities and
+  temperatures, scattered nodal loads and heat.
 * :class:`~gsi.coupling.staggered.StaggeredCoupling` -- forces and motion, one FE step per
   n_sub DEM steps, with the per-step load balance and work record;
   :func:`~gsi.coupling.staggered.lowest_period`, :func:`~gsi.coupling.staggered.choose_n_sub`.
-* :class:`~gsi.coupling.thermal.ThermalCoupling` -- heat (and thermo-elastic) coupling.
+* :class:`~gsi.coupling.thermal.ThermalCoupling` -- heat (and thermo-elastic) coupling;
+  :func:`~gsi.coupling.thermal.scale_heat_capacity` (the heat-capacity time scaling).
+* :class:`~gsi.coupling.structure.CoupledStructure` -- a built structure with its wall and
+  couplings, driven by a runner (``attach``, ``begin``, DEM steps, ``finish``); made by
+  :meth:`gsi.case.structure.Structure.build`.
 
 Names are imported lazily so that importing the package does not load dolfinx.
 """
@@ -19,6 +24,10 @@ _EXPORTS = {
     "lowest_period": "staggered",
     "choose_n_sub": "staggered",
     "ThermalCoupling": "thermal",
+    "CouplingStep": "thermal",
+    "scale_heat_capacity": "thermal",
+    "CoupledStructure": "structure",
+    "IntervalRecord": "structure",
 }
 
 __all__ = list(_EXPORTS)

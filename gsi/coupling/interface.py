@@ -1,4 +1,5 @@
-r"""The FE contact surface as a DEM mesh wall, and the wall's forces as FE nodal loads.
+r"""The FE contact surface as a DEM mesh wall: forces and heat to the FE, motion and
+temperature to the DEM. One interface serves the mechanical and the thermal coupling.
 
 DESIGN.md "Coupling". The tagged contact surface of the structure
 (:class:`gsi.fem.surface.ContactSurface`: boundary triangles whose vertices are FE mesh
@@ -30,6 +31,14 @@ Node order (the wall's vertex order): the ContactSurface vertices (sorted global
 id), then the edge midpoints sorted by their (sorted) pair of global vertex ids; it does
 not depend on the number of MPI ranks.
 
+Heat (the thermal coupling, :mod:`gsi.coupling.thermal`): the structure's temperature is
+gathered at the surface vertices; on a P2 wall an edge midpoint takes the mean of its two
+ends (:meth:`SurfaceInterface.wall_temperature`), so the barycentric interpolation on a
+sub-triangle is the P1 field of the FE face. Heat the DEM puts on a midpoint goes half to
+each end (:meth:`SurfaceInterface.vertex_heat`, the transpose), so the nodal heat load is
+P1-consistent: l_a(2 l_a - 1) + (4 l_a l_b + 4 l_c l_a)/2 = l_a, and the total is kept
+exactly.
+
 MPI: positions and velocities are gathered onto every rank (each node is owned by one
 rank: an exact sum); loads given on rank ``root`` are broadcast, and each rank adds the
 rows of the nodes it owns, so each load is applied once.
@@ -45,14 +54,17 @@ __all__ = ["SurfaceInterface"]
 
 
 class SurfaceInterface:
-    """Interface nodes and wall triangles of the contact surface of an elasticity problem.
+    """Interface nodes and wall triangles of the contact surface of a structure.
 
     Parameters
     ----------
-    elasticity : gsi.fem.elasticity.Elasticity
-        The structure (P1 or P2 vector Lagrange on a straight-sided tetrahedral mesh).
-    tag : str
-        Name of the contact surface (default "contact").
+    elasticity : gsi.fem.elasticity.Elasticity, optional
+        The structure's elasticity (P1 or P2 vector Lagrange on a straight-sided
+        tetrahedral mesh); its degree sets the wall (P2: split at the edge midpoints).
+    heat : gsi.fem.heat.Heat, optional
+        The structure's heat problem (or :meth:`add_heat` later). At least one of the two.
+    tag : str or sequence of str
+        Contact surface tag(s) (default "contact"); several tags make one surface.
 
     Attributes
     ----------
@@ -64,18 +76,26 @@ class SurfaceInterface:
         The gathered surface (vertices are the first ``surface.n_vertices`` nodes).
     n_vertices, n_midpoints : int
         Surface vertices and P2 edge-midpoint nodes (0 for P1).
+    midpoint_edges : ndarray (n_midpoints, 2) int64
+        The two surface vertices of each midpoint node's edge.
+    tags : tuple of str
+        The contact surface tags.
     """
 
-    def __init__(self, elasticity, *, tag: str = "contact"):
+    def __init__(self, elasticity=None, *, heat=None, tag="contact"):
         from gsi.fem.surface import ContactSurface
-        if elasticity.degree not in (1, 2):
+        if elasticity is None and heat is None:
+            raise GsiInputError("coupling.interface: needs an elasticity or a heat problem")
+        if elasticity is not None and elasticity.degree not in (1, 2):
             raise GsiInputError(f"structure.degree = {elasticity.degree!r}: the coupling "
                                 "supports 1 or 2")
         self.elasticity = elasticity
-        self.comm = elasticity.comm
-        self.surface = s = ContactSurface(elasticity=elasticity, tag=tag)
+        self.heat = heat
+        self.comm = (elasticity if elasticity is not None else heat).comm
+        self.surface = s = ContactSurface(elasticity=elasticity, heat=heat, tag=tag)
+        self.tags = s.tags
         self.n_vertices = s.n_vertices
-        if elasticity.degree == 1:
+        if elasticity is None or elasticity.degree == 1:
             self.x0 = s.x0.copy()
             self.triangles = s.triangles.copy()
             self.n_midpoints = 0
@@ -83,6 +103,15 @@ class SurfaceInterface:
             self._mid = None
         else:
             self._setup_midpoints()
+
+    def add_heat(self, heat) -> None:
+        """Also transfer temperatures and heat to ``heat`` (same structure). Collective."""
+        if self.heat is heat:
+            return
+        if self.heat is not None:
+            raise GsiInputError("coupling.interface: already has a heat problem")
+        self.surface.attach(heat=heat)
+        self.heat = heat
 
     # ------------------------------------------------------------------ P2 nodes
     def _setup_midpoints(self) -> None:
@@ -186,18 +215,55 @@ class SurfaceInterface:
                 np.add.at(values, dofs * bs + c, F[self.n_vertices + rows, c])
         return F
 
-    def make_wall(self, sim, *, material: str):
+    # ------------------------------------------------------------------ heat
+    def surface_temperature(self) -> np.ndarray:
+        """Temperature at the surface vertices (n_vertices,), on every rank (collective)."""
+        if self.heat is None:
+            raise GsiInputError("coupling.interface: no heat problem (structure.thermal)")
+        return self.surface.temperature()
+
+    def wall_temperature(self, T_surface=None) -> np.ndarray:
+        """Temperature of the wall nodes (n_nodes,): the surface vertices' values, then (P2
+        walls) each edge midpoint's as the mean of its two ends, the P1 field of the FE
+        face on the refined wall. ``T_surface`` (n_vertices,) defaults to
+        :meth:`surface_temperature` (then collective)."""
+        T = self.surface_temperature() if T_surface is None else np.asarray(T_surface, float)
+        if self.n_midpoints == 0:
+            return T
+        return np.concatenate([T, 0.5 * T[self.midpoint_edges].sum(axis=1)])
+
+    def vertex_heat(self, node_heat) -> np.ndarray:
+        """Heat on the wall nodes (n_nodes,) -> on the surface vertices (n_vertices,): a
+        midpoint's share goes half to each end (the transpose of :meth:`wall_temperature`;
+        the total is kept exactly). Local."""
+        node_heat = np.asarray(node_heat, float)
+        if self.n_midpoints == 0:
+            return node_heat
+        out = node_heat[: self.n_vertices].copy()
+        half = 0.5 * node_heat[self.n_vertices:]
+        np.add.at(out, self.midpoint_edges[:, 0], half)
+        np.add.at(out, self.midpoint_edges[:, 1], half)
+        return out
+
+    def add_nodal_heat(self, heat_flow, *, root: int | None = 0) -> None:
+        """Add heat loads (n_vertices,) (W, into the structure) at the surface vertices
+        (map wall-node heat with :meth:`vertex_heat` first). Read on rank ``root`` and
+        broadcast (``root=None``: every rank passes the same array). Collective."""
+        self.surface.add_nodal_heat(heat_flow, root=root)
+
+    # ------------------------------------------------------------------ DEM wall
+    def make_wall(self, sim, *, material: str, vertex_temperature=None):
         """Add the interface as a mesh wall (at the reference positions ``x0``) to ``sim``.
 
         Call on the rank that holds the DEM only (not collective); move the wall with
-        ``wall.set_vertices(positions, velocities)``. Returns the MeshWall.
+        ``wall.set_vertices(positions, velocities)``. ``vertex_temperature`` (n_nodes,)
+        makes it a conducting wall. Returns the MeshWall.
         """
+        from gsi.dem.walls import MeshWall
         if material not in sim.materials:
             raise GsiInputError(f"coupling.wall_material = {material!r}: not a DEM material; "
                                 f"known: {sorted(sim.materials)}")
-        if self._mid is None:
-            return sim.add_mesh_wall(self.x0.copy(), self.triangles, material=material)
-        from gsi.dem.walls import MeshWall
+        p2 = {} if self._mid is None else dict(parent_nodes=self.parent_nodes,
+                                               parent_coords=self.parent_coords)
         return sim.add_mesh_wall(MeshWall(self.x0.copy(), self.triangles, material=material,
-                                          parent_nodes=self.parent_nodes,
-                                          parent_coords=self.parent_coords))
+                                          vertex_temperature=vertex_temperature, **p2))

@@ -48,6 +48,13 @@ Quasi-static coupling has the analogous fixed-point limit (``relaxation``).
 MPI: the FE mesh is distributed; the DEM lives on rank ``root`` only (``sim=None``
 elsewhere). Positions and velocities are gathered on every rank, loads are broadcast
 from ``root``; the results do not depend on the number of ranks beyond solver round-off.
+
+Split step: :meth:`StaggeredCoupling.step` is :meth:`~StaggeredCoupling.begin` (reset this
+wall's accumulators), ``sim.step(n_sub)`` on ``root``, :meth:`~StaggeredCoupling.finish`
+(loads, FE step, wall update). A runner that drives several structures on one DEM calls
+begin and finish itself and advances the DEM exactly ``n_sub`` steps in between, in as
+many ``sim.step`` calls as it likes; the other walls' begin/finish may come in between,
+since each touches only its own wall's accumulators.
 """
 from __future__ import annotations
 
@@ -150,8 +157,8 @@ class StaggeredCoupling:
         DEM material of the wall (its E, nu, e, mu enter the particle-wall contact law).
     n_sub : int
         DEM steps per coupling step (see :func:`choose_n_sub`).
-    tag : str
-        Contact surface name (default "contact").
+    tag : str or sequence of str
+        Contact surface tag(s) (default "contact"; several make one surface).
     relaxation : float
         Quasi-static only: u_k+1 = (1 - r) u_k + r K^-1 P_k with 0 < r <= 1 (default 1).
         The staggered fixed point diverges when the contact stiffness of the particles
@@ -162,6 +169,9 @@ class StaggeredCoupling:
         Rank of the DEM.
     csv_path : path, optional
         Per-step records as CSV (written by rank ``root``).
+    interface : gsi.coupling.interface.SurfaceInterface, optional
+        A ready interface of ``elasticity`` (shared with a thermal coupling); default:
+        built here on ``tag``.
 
     Attributes
     ----------
@@ -186,8 +196,8 @@ class StaggeredCoupling:
     """
 
     def __init__(self, sim, elasticity, *, wall_material: str, n_sub: int,
-                 tag: str = "contact", relaxation: float = 1.0, root: int = 0,
-                 csv_path=None):
+                 tag="contact", relaxation: float = 1.0, root: int = 0,
+                 csv_path=None, interface=None):
         from gsi.coupling.interface import SurfaceInterface
         self.comm = elasticity.comm
         self.root = root
@@ -208,7 +218,11 @@ class StaggeredCoupling:
         if not self.static and not math.isclose(el.dt, self.dt, rel_tol=1e-12):
             raise GsiInputError(f"structure.dt = {el.dt:g}: must equal coupling.n_sub x dem dt "
                                 f"= {self.n_sub} x {dt_dem:g} = {self.dt:g} s")
-        self.interface = itf = SurfaceInterface(el, tag=tag)
+        if interface is None:
+            interface = SurfaceInterface(el, tag=tag)
+        elif interface.elasticity is not el:
+            raise GsiInputError("coupling.interface: built on another elasticity problem")
+        self.interface = itf = interface
         self.wall = itf.make_wall(sim, material=wall_material) if self.is_root else None
         self._u = itf.displacement()
         self._sync_wall(self._u, itf.velocity())
@@ -217,8 +231,15 @@ class StaggeredCoupling:
         self.t = 0.0
         self.work = 0.0
         self.last_loads = np.zeros((itf.n_nodes, 3))
-        self.csv_path = pathlib.Path(csv_path) if csv_path is not None else None
-        if self.csv_path is not None and self.is_root:
+        self._t_begin = None
+        self.csv_path = None
+        if csv_path is not None:
+            self.open_csv(csv_path)
+
+    def open_csv(self, path) -> None:
+        """Write the records from now on to the CSV file ``path`` (header now; rank root)."""
+        self.csv_path = pathlib.Path(path)
+        if self.is_root:
             self.csv_path.parent.mkdir(parents=True, exist_ok=True)
             with self.csv_path.open("w", newline="") as fh:
                 csv.writer(fh).writerow(CSV_COLUMNS)
@@ -233,21 +254,35 @@ class StaggeredCoupling:
                                    op=MPI.SUM)
 
     # ------------------------------------------------------------------ stepping
-    def step(self) -> CouplingRecord:
-        """One coupling step (collective): DEM sub-cycle, loads, FE step, wall update."""
+    def begin(self) -> None:
+        """Start a coupling interval (collective; no MPI call): reset this wall's
+        accumulators on ``root``. The DEM then advances exactly ``n_sub`` steps."""
+        if self._t_begin is not None:
+            raise RuntimeError("StaggeredCoupling.begin: the previous interval is not finished")
+        if self.is_root:
+            self.wall.reset_accumulators()
+            self._dem_step0 = self.sim.step_count
+        self._t_begin = time.perf_counter()
+
+    def finish(self) -> CouplingRecord:
+        """End the interval after the DEM's ``n_sub`` steps (collective): sub-cycle-averaged
+        loads to the FE, FE step, wall update. Returns the interval's record."""
+        if self._t_begin is None:
+            raise RuntimeError("StaggeredCoupling.finish: call begin() first")
         el, itf, root = self.elasticity, self.interface, self.root
+        t0, self._t_begin = self._t_begin, None
         P = info = None
-        t0 = time.perf_counter()
         if self.is_root:
             sim, wall = self.sim, self.wall
-            wall.reset_accumulators()
-            sim.step(self.n_sub)
             P = wall.vertex_impulse / self.dt
             info = (-wall.impulse_on_particles / self.dt, int(sim.n),
                     int(np.count_nonzero(np.abs(wall.triangle_force).sum(axis=1))),
-                    not P.any())
+                    not P.any(), sim.step_count - self._dem_step0)
         t1 = time.perf_counter()
-        info = self.comm.bcast(info, root=root)
+        *info, n_dem = self.comm.bcast(info, root=root)
+        if n_dem != self.n_sub:
+            raise RuntimeError(f"StaggeredCoupling.finish: the DEM advanced {n_dem} steps "
+                               f"since begin(), the coupling interval is n_sub = {self.n_sub}")
         el.clear_nodal_loads()
         P = self.last_loads = itf.add_nodal_loads(P, root=root)
         load = self.held_load()
@@ -275,10 +310,18 @@ class StaggeredCoupling:
         return self._record(load, wall_force, work_step, u, n_particles, n_contacts,
                             t1 - t0, t3 - t2, (t2 - t1) + (time.perf_counter() - t3))
 
+    def step(self) -> CouplingRecord:
+        """One coupling step (collective): :meth:`begin`, the DEM sub-cycle of ``n_sub``
+        steps on ``root``, :meth:`finish`."""
+        self.begin()
+        if self.is_root:
+            self.sim.step(self.n_sub)
+        return self.finish()
+
     def _at_rest(self) -> bool:
         """True if u = v = a = 0, no prescribed displacement and no load (collective)."""
         el = self.elasticity
-        if self.step_count == 0 or any(np.any(v) for _, _, v in el._bc_specs):
+        if self.step_count == 0 or el.has_prescribed_motion():
             return False     # the first step always runs (sets up the solver)
         busy = any(np.any(f.x.array) for f in (el.u, el.v, el.a)) or \
             bool(np.any(el.load_vector().array))
@@ -317,6 +360,37 @@ class StaggeredCoupling:
     def history(self) -> dict:
         """The records as arrays: {column: ndarray}."""
         return {c: np.array([getattr(r, c) for r in self.records]) for c in CSV_COLUMNS}
+
+    # ------------------------------------------------------------------ checkpoints
+    def state(self) -> dict:
+        """This rank's coupling state as plain arrays (for checkpoints): counters, time
+        (s), work (J), the last loads (N), the wall displacement it holds, the records
+        (``rec.<column>``) and whether an interval is open (with its DEM start step).
+        The elasticity's state is saved by its owner (:class:`CoupledStructure`)."""
+        d = {f"rec.{c}": np.array([getattr(r, c) for r in self.records],
+                                  np.int64 if c in _INT_COLUMNS else np.float64)
+             for c in CSV_COLUMNS}
+        d.update(counters=np.array([self.step_count, self._t_begin is not None,
+                                    getattr(self, "_dem_step0", -1)], np.int64),
+                 scalars=np.array([self.t, self.work], np.float64),
+                 last_loads=self.last_loads.copy(), u=np.array(self._u))
+        return d
+
+    def set_state(self, d: dict) -> None:
+        """Restore :meth:`state` (no MPI call, nothing recomputed)."""
+        self.step_count, is_open, dem_step0 = (int(v) for v in d["counters"])
+        self.t, self.work = (float(v) for v in d["scalars"])
+        self.last_loads = np.array(d["last_loads"])
+        self._u = np.array(d["u"])
+        cols = {c: d[f"rec.{c}"].tolist() for c in CSV_COLUMNS}
+        self.records = [CouplingRecord(**{c: cols[c][i] for c in CSV_COLUMNS})
+                        for i in range(len(cols["step"]))]
+        self._t_begin = time.perf_counter() if is_open else None
+        if self.is_root and dem_step0 >= 0:
+            self._dem_step0 = dem_step0
+
+
+_INT_COLUMNS = ("step", "n_particles", "n_loaded_triangles")
 
 
 def _fmt(v):

@@ -3,8 +3,9 @@ r"""Thermal (and thermo-mechanical) staggered coupling of the DEM to an FE struc
 DESIGN.md "Coupling", "Heat in particles", "Thermo-elastic". One coupling step of size
 dt_FE = n_sub dt_DEM:
 
-1. The DEM wall (a :class:`gsi.dem.MeshWall` made of the triangles of the tagged contact
-   surface, :class:`gsi.fem.surface.ContactSurface`) takes the FE temperature at the surface
+1. The DEM wall (a :class:`gsi.dem.MeshWall` made of the triangles of the contact
+   surface, :class:`gsi.coupling.interface.SurfaceInterface` -- the same interface and
+   wall as the mechanical coupling's) takes the FE temperature at the surface
    vertices (``wall.vertex_temperature``); the DEM interpolates it at each contact point
    with the barycentric weights, T_w = sum_k w_k T_k. (A P2 mechanical interface splits
    each triangle at its edge midpoints and weights heat by the P2 basis of the parent
@@ -40,19 +41,29 @@ Energy record, per coupling step (``CouplingStep``; also ``energy.csv``):
 * ``E_particles`` = sum m c_p (T - T_ref), ``E_structure`` = int rho c (T - T_ref) dx (J);
 * ``drift`` = E_particles + E_structure + (cumulative boundary loss) - (initial
   E_particles + E_structure) - (cumulative heat from DEM planes with a temperature) (J):
-  zero to round-off while no particle leaves the domain or is inserted.
+  zero to round-off while no particle leaves the domain or is inserted, and while this
+  is the only heated wall of the DEM (with two coupled structures on one DEM the
+  particles' energy also changes by the other's heat; ``balance_error`` still holds
+  per structure). The plane heat is the change of each plane's running total over the
+  interval: the coupling never resets accumulators it does not own.
 
 Parallel runs: the FE mesh is distributed; the DEM lives on rank ``root`` only (pass
 ``sim=None`` elsewhere). The gathered surface temperature/positions are on every rank;
 loads are broadcast from ``root`` and each rank adds those at the vertices it owns.
 
-Time scaling (documented choice; a simpler alternative to seed 003's long-time
-extrapolation): a run (e.g. :mod:`gsi.drivers.thermal_silo`) may divide the heat
-capacities of particles AND structure by the same factor s. All thermal time constants
-shrink by s (conduction, contact, convection), so the scaled run at time t shows the
-temperatures of the physical system at t_thermal = s t; heat flows (W) and temperatures
-are physical, stored and exchanged energies are the physical ones divided by s. The
-balance above holds exactly in the scaled run. The mechanics is not scaled.
+Time scaling (documented choice; a simpler alternative to the long-time extrapolation of
+DEM heat conduction by collision pairing): a run may divide the heat capacities of
+particles AND structure by the same factor s (:func:`scale_heat_capacity` for the DEM
+materials; ``gsi.case.structure.Structure.build(heat_scale=s)`` for the structure). All
+thermal time constants shrink by s (conduction, contact, convection), so the scaled run
+at time t shows the temperatures of the physical system at t_thermal = s t; heat flows
+(W) and temperatures are physical, stored and exchanged energies are the physical ones
+divided by s. The balance above holds exactly in the scaled run. The mechanics is not
+scaled.
+
+Split step: :meth:`ThermalCoupling.step` is :meth:`~ThermalCoupling.begin`,
+``sim.step(n_sub)`` on ``root`` and :meth:`~ThermalCoupling.finish`, as for
+:class:`gsi.coupling.staggered.StaggeredCoupling`.
 """
 from __future__ import annotations
 
@@ -66,7 +77,20 @@ from mpi4py import MPI
 
 from gsi.errors import GsiInputError
 
-__all__ = ["ThermalCoupling", "CouplingStep"]
+__all__ = ["ThermalCoupling", "CouplingStep", "scale_heat_capacity", "particle_heat_capacity"]
+
+
+def scale_heat_capacity(materials: dict, s: float) -> dict:
+    """DEM materials with every cp divided by the heat-capacity scale ``s`` (>= 1 speeds the
+    thermal evolution up by s; see the module docstring). Returns a new dict."""
+    if not (s > 0 and math.isfinite(s)):
+        raise GsiInputError(f"heat_scale = {s!r}: must be a number > 0")
+    return {name: dataclasses.replace(m, cp=m.cp / s) for name, m in materials.items()}
+
+
+def particle_heat_capacity(sim) -> np.ndarray:
+    """m c_p of the DEM particles (n,) (J/K)."""
+    return np.asarray(sim.heat_capacity, float)
 
 
 @dataclasses.dataclass
@@ -119,14 +143,17 @@ class ThermalCoupling:
         uses T_k (the heat solution of the previous step): an O(dt_FE) lag, small against
         the thermal time scales (documented choice; see the module docstring).
         None: heat only, the wall (made here) does not move.
+    interface : gsi.coupling.interface.SurfaceInterface, optional
+        Without ``mechanics``: a ready interface of ``heat`` (default: built on ``tag``).
+        With ``mechanics`` its interface is used (the heat problem is added to it).
     wall_material : str
         DEM material name of the wall when ``mechanics`` is None (its k is the wall
         conductivity of the particle-wall conductance; give it the structure's k).
     n_sub : int
         DEM steps per coupling step when ``mechanics`` is None: heat.dt must equal
         n_sub sim.dt (with ``mechanics``: its n_sub and dt).
-    tag : str
-        Contact surface tag (default "contact").
+    tag : str or sequence of str
+        Contact surface tag(s) (default "contact").
     T_ref : float
         Reference temperature of the stored energies (K).
     time_scale : float
@@ -137,10 +164,10 @@ class ThermalCoupling:
         Write the per-step records there as CSV (rank ``root``).
     """
 
-    def __init__(self, sim, heat, *, mechanics=None, wall_material: str | None = None,
-                 n_sub: int | None = None, tag: str = "contact", T_ref: float = 0.0,
-                 time_scale: float = 1.0, root: int = 0, csv_path=None):
-        from gsi.fem.surface import ContactSurface
+    def __init__(self, sim, heat, *, mechanics=None, interface=None,
+                 wall_material: str | None = None, n_sub: int | None = None, tag="contact",
+                 T_ref: float = 0.0, time_scale: float = 1.0, root: int = 0, csv_path=None):
+        from gsi.coupling.interface import SurfaceInterface
         self.comm = heat.comm
         self.mechanics = mechanics
         self.root = root = mechanics.root if mechanics is not None else root
@@ -165,63 +192,68 @@ class ThermalCoupling:
         self.elasticity = mechanics.elasticity if mechanics is not None else None
         self.T_ref = float(T_ref)
         self.time_scale = float(time_scale)
-        self.surface = ContactSurface(heat=heat, tag=tag)
-        self._T_surf = self.surface.temperature()     # collective: every rank
-        self._prolong = None
         if mechanics is not None:
             itf = mechanics.interface
-            if not np.array_equal(itf.surface.global_ids, self.surface.global_ids):
+            tags = (tag,) if isinstance(tag, str) else tuple(tag)
+            if interface is not None and interface is not itf:
+                raise GsiInputError("coupling.interface: with mechanics, the mechanical "
+                                    "coupling's interface is the one interface")
+            if set(tags) != set(itf.tags):
                 raise GsiInputError(f"coupling.tag = {tag!r}: the mechanical coupling uses "
-                                    "another contact surface")
-            if itf.n_midpoints:
-                self._prolong = itf.midpoint_edges
+                                    f"another contact surface {list(itf.tags)}")
+            itf.add_heat(heat)
+            self.interface = itf
+            self._T_surf = itf.surface_temperature()     # collective: every rank
             self.wall = mechanics.wall
             if self.is_root:
-                self.wall.vertex_temperature = self._wall_T(self._T_surf)
+                self.wall.vertex_temperature = itf.wall_temperature(self._T_surf)
         else:
+            if interface is None:
+                interface = SurfaceInterface(heat=heat, tag=tag)
+            elif interface.heat is None:
+                interface.add_heat(heat)
+            elif interface.heat is not heat:
+                raise GsiInputError("coupling.interface: built on another heat problem")
+            self.interface = itf = interface
+            self._T_surf = itf.surface_temperature()
             self.wall = None
             if self.is_root:
-                if wall_material not in sim.materials:
-                    raise GsiInputError(f"coupling.wall_material = {wall_material!r}: not a "
-                                        f"DEM material; known: {sorted(sim.materials)}")
-                self.wall = sim.add_mesh_wall(self.surface.x0, self.surface.triangles,
-                                              material=wall_material,
-                                              vertex_temperature=self._T_surf)
-        # boundary tags whose heat flow is part of the balance
-        self._flux_tags = [n for n in heat.h if heat.h[n] > 0.0 or heat.q[n].value != 0.0
-                           or n in heat._bc_dofs_by_tag]
-        self._volume = None
+                self.wall = itf.make_wall(sim, material=wall_material,
+                                          vertex_temperature=itf.wall_temperature(self._T_surf))
         self.records: list[CouplingStep] = []
         self.step_count = 0
         self.t = 0.0
         self._cum_loss = 0.0
         self._cum_planes = 0.0
         self._E0 = None
-        self.csv_path = pathlib.Path(csv_path) if csv_path is not None else None
-        if self.csv_path is not None and self.is_root:
+        self._interval = None
+        self.csv_path = None
+        if csv_path is not None:
+            self.open_csv(csv_path)
+
+    def open_csv(self, path) -> None:
+        """Write the records from now on to the CSV file ``path`` (header now; rank root)."""
+        self.csv_path = pathlib.Path(path)
+        if self.is_root:
             self.csv_path.parent.mkdir(parents=True, exist_ok=True)
             with self.csv_path.open("w", newline="") as fh:
                 csv.writer(fh).writerow(CSV_COLUMNS)
 
-    # ------------------------------------------------------------------ state
-    def _wall_T(self, T_surf):
-        """Wall-vertex temperatures: the surface vertices', then (P2 walls) the edge
-        midpoints' as the mean of their two ends (the P1 field on the refined wall)."""
-        if self._prolong is None:
-            return T_surf
-        return np.concatenate([T_surf, 0.5 * T_surf[self._prolong].sum(axis=1)])
+    @property
+    def surface(self):
+        """The gathered contact surface (:class:`gsi.fem.surface.ContactSurface`)."""
+        return self.interface.surface
 
-    def _vertex_heat(self, heat_nodes):
-        """Heat on the wall nodes (J) -> heat on the surface vertices (J): a midpoint's share
-        goes half to each end, the transpose of :meth:`_wall_T` (total kept exactly)."""
-        if self._prolong is None:
-            return heat_nodes
-        nv = self.surface.n_vertices
-        out = heat_nodes[:nv].copy()
-        half = 0.5 * heat_nodes[nv:]
-        np.add.at(out, self._prolong[:, 0], half)
-        np.add.at(out, self._prolong[:, 1], half)
-        return out
+    # ------------------------------------------------------------------ state
+    def surface_temperature(self) -> np.ndarray:
+        """FE temperature at the contact-surface vertices at the end of the last interval
+        (n_vertices,) (K), on every rank (no MPI call)."""
+        return self._T_surf.copy()
+
+    def wall_temperature(self) -> np.ndarray:
+        """Temperature the DEM wall takes at the next :meth:`begin` (n_nodes,) (K): the
+        surface vertices' and (P2 walls) the midpoints' means. On every rank, no MPI call."""
+        return self.interface.wall_temperature(self._T_surf)
 
     def particle_energy(self) -> float:
         """sum m c_p (T - T_ref) over the particles (J), on every rank (collective)."""
@@ -232,52 +264,66 @@ class ThermalCoupling:
 
     def structure_energy(self) -> float:
         """int rho c (T - T_ref) dx (J) (collective)."""
-        if self._volume is None:
-            from gsi.fem import compat
-            self._volume = compat.assemble_scalar(
-                compat.form(compat.constant(self.heat.mesh, 1.0)
-                            * compat.measure("dx", self.heat.mesh)), self.comm)
         m = self.heat.material
-        return self.heat.stored_heat() - m.rho * m.c * self.T_ref * self._volume
+        return self.heat.stored_heat() - m.rho * m.c * self.T_ref * self.heat.volume()
 
     def _boundary_inflow(self, tags) -> float:
         return sum(self.heat.heat_flow(n) for n in tags)
 
     # ------------------------------------------------------------------ stepping
-    def step(self) -> CouplingStep:
-        """One coupling step (collective): DEM sub-cycle with the wall at T_k, forces and
-        motion (``mechanics``), heat loads to the FE, heat step to T_k+1."""
-        heat, el, mech, root = self.heat, self.elasticity, self.mechanics, self.root
+    def begin(self) -> None:
+        """Start a coupling interval (collective): the wall takes the FE temperature T_k,
+        the elasticity (``mechanics``) takes T_k for its thermal strain, this wall's
+        accumulators are reset; the planes' heat totals are noted (not reset). The DEM
+        then advances exactly ``n_sub`` steps."""
+        if self._interval is not None:
+            raise RuntimeError("ThermalCoupling.begin: the previous interval is not finished")
         if self._E0 is None:
             self._E0 = self.particle_energy() + self.structure_energy()
+        planes0 = None
+        if self.is_root:
+            self.wall.vertex_temperature = self.wall_temperature()
+            planes0 = [p.heat_to_particles for p in self.sim.planes]
+        if self.mechanics is not None:
+            self.elasticity.set_temperature(self.heat.T)     # thermal strain of this solve: T_k
+            self.mechanics.begin()
+        elif self.is_root:
+            self.wall.reset_accumulators()
+            self._dem_step0 = self.sim.step_count
+        self._interval = dict(planes0=planes0)
+
+    def finish(self) -> CouplingStep:
+        """End the interval after the DEM's ``n_sub`` steps (collective): forces and motion
+        (``mechanics``), heat loads to the FE, heat step to T_k+1. Returns the record."""
+        if self._interval is None:
+            raise RuntimeError("ThermalCoupling.finish: call begin() first")
+        planes0, self._interval = self._interval["planes0"], None
+        heat, el, mech, root, itf = self.heat, self.elasticity, self.mechanics, self.root, self.interface
         W = info = None
+        if mech is not None:
+            mech.finish()                               # loads, solve, wall
         if self.is_root:
             sim, wall = self.sim, self.wall
-            wall.vertex_temperature = self._wall_T(self._T_surf)
-            for p in sim.planes:
-                p.reset_accumulators()
-        if mech is not None:
-            el.set_temperature(heat.T)                  # thermal strain of this solve: T_k
-            mech.step()                                 # DEM sub-cycle, loads, solve, wall
-        else:
-            if self.is_root:
-                self.wall.reset_accumulators()
-                self.sim.step(self.n_sub)
-        if self.is_root:
-            W = self._vertex_heat(wall.vertex_heat) / self.dt   # W into the structure
+            W = itf.vertex_heat(wall.vertex_heat) / self.dt   # W into the structure
             E_p, T_mean, T_max = _particle_energy(sim, self.T_ref)
             info = dict(Q_particles=-wall.heat_to_particles,
-                        Q_planes=sum(p.heat_to_particles for p in sim.planes
+                        Q_planes=sum(p.heat_to_particles - q0 for p, q0 in zip(sim.planes, planes0)
                                      if p.temperature is not None),
                         E_particles=E_p, T_pm=T_mean, T_px=T_max, n=int(sim.n),
                         nc=int(sim.contact_count()),
-                        Fz=float(-wall.impulse_on_particles[2] / self.dt))
+                        Fz=float(-wall.impulse_on_particles[2] / self.dt),
+                        n_dem=(self.n_sub if mech is not None
+                               else sim.step_count - self._dem_step0))
         info = self.comm.bcast(info, root=root)
+        if info["n_dem"] != self.n_sub:
+            raise RuntimeError(f"ThermalCoupling.finish: the DEM advanced {info['n_dem']} steps "
+                               f"since begin(), the coupling interval is n_sub = {self.n_sub}")
         heat.clear_nodal_heat()
-        self.surface.add_nodal_heat(W if W is not None else np.zeros(self.surface.n_vertices),
-                                    root=root)
-        theta_tags = [n for n in self._flux_tags if n not in heat._bc_dofs_by_tag]
-        dir_tags = [n for n in self._flux_tags if n in heat._bc_dofs_by_tag]
+        itf.add_nodal_heat(W if W is not None else np.zeros(itf.n_vertices), root=root)
+        flux_tags = heat.exchange_tags()
+        fixed = set(heat.fixed_tags)
+        theta_tags = [n for n in flux_tags if n not in fixed]
+        dir_tags = [n for n in flux_tags if n in fixed]
         inflow_old = self._boundary_inflow(theta_tags) if theta_tags else 0.0
         heat.step()
         Q_structure = heat.nodal_heat() * self.dt
@@ -289,7 +335,7 @@ class ThermalCoupling:
         if el is not None:
             disp = el.max_displacement()
             vm = self.max_von_mises()
-        self._T_surf = self.surface.temperature()
+        self._T_surf = itf.surface_temperature()
         self.step_count += 1
         self.t += self.dt
         self._cum_loss += Q_loss
@@ -305,7 +351,7 @@ class ThermalCoupling:
             balance_error=Q_structure - info["Q_particles"], heat_flow=Q_structure / self.dt,
             Q_boundary_loss=Q_loss, Q_planes=info["Q_planes"], E_particles=E_p,
             E_structure=E_s, drift=drift, T_wall_max=T_max,
-            T_wall_mean=self.T_ref + E_s / (m.rho * m.c * self._volume),
+            T_wall_mean=self.T_ref + E_s / (m.rho * m.c * heat.volume()),
             T_contact_max=float(self._T_surf.max()), T_particles_mean=info["T_pm"],
             T_particles_max=info["T_px"], max_von_mises=vm, max_displacement=disp,
             wall_force_z=info["Fz"], n_particles=info["n"], n_contacts=info["nc"])
@@ -314,6 +360,14 @@ class ThermalCoupling:
             with self.csv_path.open("a", newline="") as fh:
                 csv.writer(fh).writerow([_fmt(getattr(rec, c)) for c in CSV_COLUMNS])
         return rec
+
+    def step(self) -> CouplingStep:
+        """One coupling step (collective): :meth:`begin`, the DEM sub-cycle of ``n_sub``
+        steps on ``root`` with the wall at T_k, :meth:`finish`."""
+        self.begin()
+        if self.is_root:
+            self.sim.step(self.n_sub)
+        return self.finish()
 
     def run(self, n_steps: int, *, callback=None, every: int = 1):
         """``n_steps`` coupling steps; ``callback(self, record)`` every ``every`` steps
@@ -337,12 +391,47 @@ class ThermalCoupling:
         """The records as arrays: {column: ndarray}."""
         return {c: np.array([getattr(r, c) for r in self.records]) for c in CSV_COLUMNS}
 
+    # ------------------------------------------------------------------ checkpoints
+    def state(self) -> dict:
+        """This rank's coupling state as plain arrays (for checkpoints): counters, time
+        (s), cumulative boundary loss and plane heat (J), the energy baseline (J; nan
+        before the first interval), the surface temperatures, the records
+        (``rec.<column>``) and the open interval (the planes' heat totals at its start).
+        The heat problem's state is saved by its owner (:class:`CoupledStructure`)."""
+        d = {f"rec.{c}": np.array([getattr(r, c) for r in self.records],
+                                  np.int64 if c in ("step", "n_particles", "n_contacts")
+                                  else np.float64)
+             for c in CSV_COLUMNS}
+        iv = self._interval
+        planes0 = iv["planes0"] if iv is not None and iv["planes0"] is not None else []
+        d.update(counters=np.array([self.step_count, iv is not None,
+                                    iv is not None and iv["planes0"] is not None,
+                                    getattr(self, "_dem_step0", -1)], np.int64),
+                 scalars=np.array([self.t, self._cum_loss, self._cum_planes,
+                                   math.nan if self._E0 is None else self._E0], np.float64),
+                 T_surf=np.array(self._T_surf), planes0=np.array(planes0, np.float64))
+        return d
+
+    def set_state(self, d: dict) -> None:
+        """Restore :meth:`state` (no MPI call, nothing recomputed)."""
+        self.step_count, is_open, has_planes, dem_step0 = (int(v) for v in d["counters"])
+        self.t, self._cum_loss, self._cum_planes, E0 = (float(v) for v in d["scalars"])
+        self._E0 = None if math.isnan(E0) else E0
+        self._T_surf = np.array(d["T_surf"])
+        cols = {c: d[f"rec.{c}"].tolist() for c in CSV_COLUMNS}
+        self.records = [CouplingStep(**{c: cols[c][i] for c in CSV_COLUMNS})
+                        for i in range(len(cols["step"]))]
+        self._interval = (dict(planes0=d["planes0"].tolist() if has_planes else None)
+                          if is_open else None)
+        if self.is_root and dem_step0 >= 0:
+            self._dem_step0 = dem_step0
+
 
 def _particle_energy(sim, T_ref):
     """(sum m c_p (T - T_ref) (J), m c_p-weighted mean T, max T) of the DEM particles."""
     if sim.n == 0:
         return 0.0, math.nan, math.nan
-    mcp = 1.0 / sim._p("mcp_inv")
+    mcp = particle_heat_capacity(sim)
     T = sim.T
     return (float(np.sum(mcp * (T - T_ref))), float(np.sum(mcp * T) / mcp.sum()),
             float(T.max()))

@@ -2,8 +2,9 @@
 
 A single layer of n x n softwood spheres (seed 000, Table 3; plus rolling resistance so
 that they come to rest) is placed just above the top face of a clamped circular plate
-and coupled to it (:class:`gsi.coupling.staggered.StaggeredCoupling`); the plate is
-dynamic with mass-proportional damping (damping ratio ``zeta`` of its lowest mode) or
+and coupled to it (the structure set up by :meth:`gsi.case.structure.Structure.build`,
+its wall material derived from the plate's; :class:`gsi.coupling.staggered.StaggeredCoupling`);
+the plate is dynamic with mass-proportional damping (damping ratio ``zeta`` of its lowest mode) or
 quasi-static with under-relaxation. At rest:
 
 * the support reactions carry the bed's weight (the membrane's self-weight is off);
@@ -16,12 +17,11 @@ its own: ``python -m gsi.coupling.validation`` prints the key numbers.
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from mpi4py import MPI
 
-#: softwood (XDEM Table 3) with rolling resistance; the membrane as the DEM sees it
+#: softwood (XDEM Table 3) with rolling resistance; the membrane (a stiffer rubber)
 SOFTWOOD = dict(E=5.0e5, nu=0.45, rho=400.0, e=0.5, mu=0.8, mu_r=0.1)
 PLATE = dict(E=2.0e7, nu=0.45, rho=930.0)
 
@@ -68,33 +68,29 @@ def bed_on_membrane(*, h: float = 0.05, degree: int = 2, scheme: str = "generali
         ``u_diff_rel`` (-, max |u - u_static| / max |u_static| at the interface nodes),
         ``kinetic_energy`` (J, particles at the end), ``T_1`` (s), ``n_sub``, ``n_dofs``.
     """
-    import meshes
+    from gsi.case.structure import Contact, Structure
     from gsi.coupling.interface import SurfaceInterface
-    from gsi.coupling.staggered import StaggeredCoupling, choose_n_sub, lowest_period
     from gsi.dem import Material, Simulation
     from gsi.dem.materials import rayleigh_time
     from gsi.fem.elasticity import Elasticity
-    from gsi.fem.materials import StructuralMaterial
 
     root = 0
-    sm = meshes.build("membrane", shape="circle", radius=radius, thickness=thickness, h=h,
-                      n_thickness=n_thickness, comm=comm)
-    mat = StructuralMaterial(**PLATE)
-    static = Elasticity(sm, mat, degree=degree)
-    static.clamp("support")
-    T_1 = lowest_period(static)
+    spec = Structure(
+        name="membrane", mesh="membrane",
+        geometry=dict(shape="circle", radius=radius, thickness=thickness, h=h,
+                      n_thickness=n_thickness),
+        material="rubber", **PLATE, degree=degree, scheme=scheme, rho_inf=rho_inf,
+        damping_ratio=zeta, supports=["support"],
+        contact=Contact(tags=("contact",), e=0.5, mu=0.8, mu_r=0.1, n_sub=n_sub,
+                        relaxation=relaxation))
     wood = Material(**SOFTWOOD)
     dt = 0.2 * rayleigh_time(r, wood)
-    n_sub = n_sub or choose_n_sub(dt, T_1)
-    if scheme == "static":
-        el = static
-    else:
-        el = Elasticity(sm, mat, degree=degree, scheme=scheme, dt=n_sub * dt, rho_inf=rho_inf,
-                        rayleigh=(2.0 * zeta * 2.0 * math.pi / T_1, 0.0))
-        el.clamp("support")
+    cs = spec.build(comm=comm, dt_dem=dt, gravity=(0.0, 0.0, -9.81), root=root)
+    el, T_1, n_sub = cs.elasticity, cs.T_1, cs.n_sub
     sim = None
     if comm.rank == root:
-        sim = Simulation({"wood": wood, "plate": Material(e=0.5, mu=0.8, mu_r=0.1, **PLATE)},
+        wall_name, wall_mat = spec.dem_wall_material({"wood": wood})
+        sim = Simulation({"wood": wood, wall_name: wall_mat},
                          rolling=True, dt=dt, skin=0.4 * r,
                          domain=((-1.5 * radius,) * 2 + (-radius,), (1.5 * radius,) * 2 + (radius,)))
         s = 2.05 * r
@@ -102,8 +98,8 @@ def bed_on_membrane(*, h: float = 0.05, degree: int = 2, scheme: str = "generali
         X, Y = np.meshgrid(g, g)
         x = np.c_[X.ravel(), Y.ravel(), np.full(X.size, thickness + 1.02 * r)]
         sim.add_particles(x, r, material="wood")
-    cp = StaggeredCoupling(sim, el, wall_material="plate", n_sub=n_sub, relaxation=relaxation,
-                           root=root)
+    cs.attach(sim)
+    cp = cs.mechanics
     cp.run(int(round(duration / cp.dt)))
     info = None
     if comm.rank == root:
@@ -112,7 +108,7 @@ def bed_on_membrane(*, h: float = 0.05, degree: int = 2, scheme: str = "generali
     reaction = el.reaction("support")
     u = cp.interface.displacement()
     # a static solve under the same nodal loads
-    check = Elasticity(sm, mat, degree=degree)
+    check = Elasticity(cs.mesh, cs.material, degree=degree)
     check.clamp("support")
     itf_check = SurfaceInterface(check)
     itf_check.add_nodal_loads(cp.last_loads, root=None)

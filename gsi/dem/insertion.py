@@ -1,18 +1,20 @@
 """Particle insertion: lattice and random fills, and continuous insertion at a rate.
 
-Regions: :class:`Box` (lo, hi corners, m) and :class:`Cylinder` (vertical: axis centre
-(x, y), radius, z range, m).  Particles are placed with their whole sphere inside the
-region.
+Regions (all with ``volume``, ``bounds()``, ``contains(x, r)`` and ``sample(rng, r)``):
+:class:`Box` (lo, hi corners, m), :class:`Cylinder` (any axis: an axis point at one end,
+axis direction, radius, length, m) and :class:`Sphere` (centre, radius, m).  Particles are
+placed with their whole sphere inside the region.
 
-- :func:`lattice_fill` — simple-cubic lattice of spheres filling a box.
-- :func:`random_fill` — random non-overlapping spheres in a box or cylinder, given a
-  count or a volume fraction; raises GsiInputError when it cannot place them
-  (sequential random insertion jams near a volume fraction of about 0.3-0.35).
-- :class:`Inserter` (``sim.add_inserter``) — inserts ``rate`` particles/s at random
+- :func:`lattice_fill` -- simple-cubic lattice of spheres filling a region (the box
+  lattice of its bounding box, clipped to a cylinder or sphere).
+- :func:`random_fill` -- random non-overlapping spheres in a region, given a count or a
+  volume fraction; raises GsiInputError when it cannot place them (random sequential
+  insertion jams near a volume fraction of about 0.3-0.35).
+- :class:`Inserter` (``sim.add_inserter``) -- inserts ``rate`` particles/s at random
   spots of a region with an initial velocity, skipping spots that overlap existing
   or just-inserted particles (after 20 tries per particle; skipped ones are counted in
   ``n_skipped`` and not retried), up to ``max_count``.  The simulation calls it at the
-  steps when particles are due.
+  steps when particles are due; ``ids`` lists the ids it inserted.
 """
 import math
 
@@ -38,6 +40,13 @@ class Box:
     def bounds(self):
         return self.lo, self.hi
 
+    def contains(self, x, r=0.0):
+        """Whether spheres at ``x`` (k, 3) of radii ``r`` (m) lie wholly inside."""
+        x = np.atleast_2d(np.asarray(x, float))
+        r = np.asarray(r, float).reshape(-1, 1) if np.ndim(r) else float(r)
+        tol = 1e-12 * (self.hi - self.lo)
+        return ((x - r >= self.lo - tol) & (x + r <= self.hi + tol)).all(1)
+
     def sample(self, rng, r):
         """Random centres (len(r), 3) whose spheres of radii r lie inside."""
         r = np.asarray(r)[:, None]
@@ -47,47 +56,112 @@ class Box:
 
 
 class Cylinder:
-    """Vertical cylinder region: axis through ``centre`` = (x, y), ``radius``, z in [zlo, zhi] (m)."""
+    """Cylinder region with any axis: ``centre`` (m) is the axis point at one end, the
+    cylinder reaches ``length`` (m) along ``axis`` (normalised; default +z), of ``radius`` (m).
+    """
 
-    def __init__(self, centre, radius, zlo, zhi):
-        self.centre = np.asarray(centre, float)[:2]
+    def __init__(self, centre, radius, length, *, axis=(0.0, 0.0, 1.0)):
+        from gsi.dem.shapes import orthonormal_frame
+        self.centre = np.asarray(centre, float).reshape(-1)
         self.radius = float(radius)
-        self.zlo, self.zhi = float(zlo), float(zhi)
-        if not (self.radius > 0 and self.zhi > self.zlo):
-            raise GsiInputError(f"region.cylinder radius = {radius}, z = [{zlo}, {zhi}]: need radius > 0, zhi > zlo (m)")
+        self.length = float(length)
+        if self.centre.shape != (3,) or not (self.radius > 0 and self.length > 0):
+            raise GsiInputError(f"region.cylinder centre = {list(self.centre)}, radius = {radius}, "
+                                f"length = {length}: need a 3-vector centre, radius > 0, length > 0 (m)")
+        self.e1, self.e2, self.axis = orthonormal_frame(axis)
 
     @property
     def volume(self):
-        return math.pi * self.radius ** 2 * (self.zhi - self.zlo)
+        return math.pi * self.radius ** 2 * self.length
 
     def bounds(self):
-        c = self.centre
-        return (np.array([c[0] - self.radius, c[1] - self.radius, self.zlo]),
-                np.array([c[0] + self.radius, c[1] + self.radius, self.zhi]))
+        """Tight axis-aligned bounding box (lo, hi) (m)."""
+        a = self.axis
+        ends = np.array([self.centre, self.centre + self.length * a])
+        ext = self.radius * np.sqrt(np.clip(1.0 - a ** 2, 0.0, 1.0))
+        return ends.min(0) - ext, ends.max(0) + ext
+
+    def contains(self, x, r=0.0):
+        """Whether spheres at ``x`` (k, 3) of radii ``r`` (m) lie wholly inside."""
+        d = np.atleast_2d(np.asarray(x, float)) - self.centre
+        s = d @ self.axis
+        rho = np.linalg.norm(d - s[:, None] * self.axis, axis=1)
+        r = np.asarray(r, float)
+        return (rho + r <= self.radius * (1 + 1e-12)) & (s - r >= -1e-12 * self.length) & \
+            (s + r <= self.length * (1 + 1e-12))
+
+    def sample(self, rng, r):
+        """Random centres (len(r), 3) whose spheres of radii r lie inside (uniform)."""
+        r = np.asarray(r)
+        if (r >= self.radius).any() or (2 * r > self.length).any():
+            raise GsiInputError(f"region.radius = {self.radius}, length = {self.length}: "
+                                f"smaller than a particle of radius {float(r.max())} (m)")
+        rho = (self.radius - r) * np.sqrt(rng.random(len(r)))
+        phi = 2 * math.pi * rng.random(len(r))
+        s = r + rng.random(len(r)) * (self.length - 2 * r)
+        return (self.centre + s[:, None] * self.axis + (rho * np.cos(phi))[:, None] * self.e1
+                + (rho * np.sin(phi))[:, None] * self.e2)
+
+
+class Sphere:
+    """Spherical region of ``radius`` (m) about ``centre`` (m)."""
+
+    def __init__(self, centre, radius):
+        self.centre = np.asarray(centre, float).reshape(-1)
+        self.radius = float(radius)
+        if self.centre.shape != (3,) or not self.radius > 0:
+            raise GsiInputError(f"region.sphere centre = {list(self.centre)}, radius = {radius}: "
+                                "need a 3-vector centre and radius > 0 (m)")
+
+    @property
+    def volume(self):
+        return 4.0 / 3.0 * math.pi * self.radius ** 3
+
+    def bounds(self):
+        return self.centre - self.radius, self.centre + self.radius
+
+    def contains(self, x, r=0.0):
+        d = np.linalg.norm(np.atleast_2d(np.asarray(x, float)) - self.centre, axis=1)
+        return d + np.asarray(r, float) <= self.radius * (1 + 1e-12)
 
     def sample(self, rng, r):
         r = np.asarray(r)
-        if (r >= self.radius).any() or (2 * r > self.zhi - self.zlo).any():
-            raise GsiInputError(f"region.cylinder radius = {self.radius}: smaller than a particle")
-        rho = (self.radius - r) * np.sqrt(rng.random(len(r)))
-        phi = 2 * math.pi * rng.random(len(r))
-        z = self.zlo + r + rng.random(len(r)) * (self.zhi - self.zlo - 2 * r)
-        return np.column_stack([self.centre[0] + rho * np.cos(phi),
-                                self.centre[1] + rho * np.sin(phi), z])
+        if (r >= self.radius).any():
+            raise GsiInputError(f"region.radius = {self.radius}: smaller than a particle of "
+                                f"radius {float(r.max())} (m)")
+        u = rng.normal(size=(len(r), 3))
+        u /= np.linalg.norm(u, axis=1)[:, None]
+        rho = (self.radius - r) * np.cbrt(rng.random(len(r)))
+        return self.centre + rho[:, None] * u
 
 
-def lattice_fill(box, radius, *, spacing=None):
-    """Centres of a simple-cubic lattice of spheres of ``radius`` (m) filling ``box``.
+def lattice_fill(region, radius, *, spacing=None):
+    """Centres of a simple-cubic lattice of spheres of ``radius`` (m) filling ``region``.
 
-    ``spacing`` (m) defaults to 2.02 radius; the lattice starts one radius inside.
+    ``spacing`` (m) defaults to 2.02 radius; the lattice starts one radius inside the
+    region's bounding box and keeps the points whose whole sphere lies in the region
+    (a box lattice clipped to a cylinder or sphere).
     """
     spacing = 2.02 * radius if spacing is None else spacing
     if not (radius > 0 and spacing >= 2 * radius):
         raise GsiInputError(f"lattice spacing = {spacing}: must be >= the diameter {2 * radius} (m)")
-    axes = [np.arange(lo + radius, hi - radius + 1e-12 * spacing, spacing)
-            for lo, hi in zip(box.lo, box.hi)]
+    lo, hi = region.bounds()
+    axes = [np.arange(a + radius, b - radius + 1e-12 * spacing, spacing) for a, b in zip(lo, hi)]
     g = np.meshgrid(*axes, indexing="ij")
-    return np.column_stack([a.ravel() for a in g])
+    x = np.column_stack([a.ravel() for a in g])
+    return x if isinstance(region, Box) else x[region.contains(x, radius)]
+
+
+def lattice_capacity(region, radius, *, spacing=None):
+    """Number of lattice sites of :func:`lattice_fill` (counted without building them for a
+    box)."""
+    spacing = 2.02 * radius if spacing is None else spacing
+    lo, hi = region.bounds()
+    n = np.floor((hi - lo - 2 * radius) / spacing + 1e-12) + 1
+    total = float(np.prod(np.maximum(n, 0)))
+    if isinstance(region, Box) or total > 5e6:
+        return int(total) if isinstance(region, Box) else int(total * region.volume / np.prod(hi - lo))
+    return len(lattice_fill(region, radius, spacing=spacing))
 
 
 def _overlaps(xc, rc, x, r):
@@ -103,7 +177,7 @@ def random_fill(region, radius, *, count=None, volume_fraction=None, rng=None,
 
     Parameters
     ----------
-    region : Box or Cylinder
+    region : Box, Cylinder or Sphere
     radius : float or distribution
         Radii (m).
     count : int, optional
@@ -165,7 +239,7 @@ class Inserter:
     Parameters
     ----------
     sim : Simulation
-    region : Box or Cylinder
+    region : Box, Cylinder or Sphere
     rate : float
         Particles per second (> 0).
     radius : float or distribution
@@ -187,7 +261,9 @@ class Inserter:
             raise GsiInputError(f"inserter.rate = {rate}: must be > 0 (particles/s)")
         if max_count is not None and max_count < 0:
             raise GsiInputError(f"inserter.max_count = {max_count}: must be >= 0")
-        sim._material(material, "inserter.material")
+        if material not in sim.material_names:
+            raise GsiInputError(f"inserter.material = {material!r}: unknown material, known: "
+                                f"{sim.material_names}")
         self.sim, self.region, self.rate = sim, region, float(rate)
         self.dist = as_distribution(radius, key="inserter.radius")
         self.material = material
@@ -198,6 +274,12 @@ class Inserter:
         self.n_attempted = 0
         self.n_inserted = 0
         self.n_skipped = 0
+        self._ids = []
+
+    @property
+    def ids(self):
+        """Ids of the particles this inserter added (int64 array, in insertion order)."""
+        return np.concatenate(self._ids) if self._ids else np.zeros(0, np.int64)
 
     def _due(self):
         due = int(math.floor(self.rate * (self.sim.time - self.start) + 1e-9))
@@ -238,7 +320,21 @@ class Inserter:
                 self.n_skipped += 1
         self.n_attempted += k
         if placed_x:
-            sim.add_particles(np.array(placed_x), np.array(placed_r), material=self.material,
-                              v=self.velocity, T=self.T)
+            self._ids.append(sim.add_particles(np.array(placed_x), np.array(placed_r),
+                                               material=self.material, v=self.velocity, T=self.T))
         self.n_inserted += len(placed_x)
         return len(placed_x)
+
+    # ------------------------------------------------------------------ checkpoints
+    def state(self):
+        """Counters, start time (s) and inserted ids as plain arrays (for checkpoints;
+        the random generator is the simulation's, saved with it)."""
+        return {"counters": np.array([self.n_attempted, self.n_inserted, self.n_skipped],
+                                     np.int64),
+                "start": np.array(self.start, np.float64), "ids": self.ids.copy()}
+
+    def set_state(self, d):
+        """Restore :meth:`state`."""
+        self.n_attempted, self.n_inserted, self.n_skipped = (int(v) for v in d["counters"])
+        self.start = float(d["start"])
+        self._ids = [np.array(d["ids"], np.int64)] if len(d["ids"]) else []

@@ -7,6 +7,8 @@
 - :func:`write_wall_vtu` writes the triangles of a mesh wall with point data
   vertex_velocity, vertex_impulse, vertex_heat (and vertex_temperature) and cell data
   triangle_force.
+- :func:`write_surface_vtu` writes any triangulation (e.g. ``Wall.surface()`` of a case
+  wall, planes included) with optional point data.
 
 Arrays are written inline as base64 binary (``format="binary"``, UInt64 headers).
 """
@@ -78,6 +80,14 @@ def write_wall_vtu(path, wall):
     _write_atomic(path, _unstructured(wall.vertices, tri.ravel(), 3 * np.arange(1, len(tri) + 1),
                                       np.full(len(tri), 5, np.uint8), pd,
                                       {"triangle_force": wall.triangle_force}))
+
+
+def write_surface_vtu(path, vertices, triangles, *, point_data=None):
+    """Triangles (nt, 3) over ``vertices`` (nv, 3) (m) as a .vtu file, with optional
+    ``point_data`` {name: (nv,) or (nv, k) array}."""
+    tri = np.asarray(triangles, np.int64)
+    _write_atomic(path, _unstructured(vertices, tri.ravel(), 3 * np.arange(1, len(tri) + 1),
+                                      np.full(len(tri), 5, np.uint8), dict(point_data or {}), {}))
 
 
 class ParticleWriter:

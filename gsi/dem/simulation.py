@@ -737,6 +737,119 @@ class Simulation:
         b = sum(arr.nbytes for store in (self._pa, self._wa) for arr in store.values())
         return b + bundle_bytes(self.pairs)
 
+    # ------------------------------------------------------------------ checkpoints
+    def state(self):
+        """The whole DEM state as plain arrays (for checkpoints; :meth:`set_state`).
+
+        Returns a dict ``{key: numpy array}`` (copies) holding: every field of the five
+        bundles (``p.<field>``, ``wc.<field>``, ``pairs.<field>``, ``planes.<field>``,
+        ``mesh.<field>``: positions, velocities, the forces and torques of the last step,
+        the tangential springs of pair, plane and triangle contacts, the neighbour lists
+        they live on, the walls' positions, velocities, omega, centres and accumulators),
+        the counters (``time`` s, ``step_count``, ``n_lost``, ``next_id``), the flags of
+        the step loop (whether the forces of the last step are valid: forces are NOT
+        recomputed on a resume, since recomputing them advances the tangential springs),
+        the random generator's bit-generator state (``rng.*``) and each inserter's
+        state (``ins<i>.*``). A simulation built the same way (same materials, walls and
+        inserters) continues bit-identically after :meth:`set_state`.
+        """
+        n = self.n
+        d = {f"p.{k}": self._pa[k][:n].copy() for k in PARTICLE_FIELDS}
+        d.update({f"wc.{k}": self._wa[k][:n].copy() for k in WALL_CONTACT_FIELDS})
+        d["wc.overflow"] = self._overflow.copy()
+        for prefix, bundle in (("pairs", self.pairs), ("planes", self.plane_state),
+                               ("mesh", self.mesh_state)):
+            d.update({f"{prefix}.{k}": np.array(a) for k, a in zip(bundle._fields, bundle)})
+        d["ids_at_build"] = np.array(getattr(self, "_ids_at_build", np.zeros(0, np.int64)))
+        d["scalars"] = np.array([self.time, self.dt], np.float64)
+        d["counters"] = np.array([n, self.step_count, self.n_lost, self._next_id,
+                                  self.n_rebuilds, self._npl, self._S, len(self.inserters)],
+                                 np.int64)
+        d["flags"] = np.array([self._need_rebuild, self._forces_valid, self._dt_checked,
+                               self._heat_warned, self._built], np.uint8)
+        d.update({f"rng.{k}": v for k, v in _rng_state_arrays(self.rng.bit_generator.state).items()})
+        for i, ins in enumerate(self.inserters):
+            d.update({f"ins{i}.{k}": v for k, v in ins.state().items()})
+        return d
+
+    def set_state(self, d):
+        """Restore :meth:`state` into a simulation built the same way (same materials,
+        planes, mesh walls and inserters, in the same order). Nothing is recomputed:
+        the next :meth:`step` continues exactly where the saved run stood."""
+        n, step_count, n_lost, next_id, n_rebuilds, npl, S, n_ins = (
+            int(v) for v in d["counters"])
+        if (npl, S, n_ins, len(self.mesh_state.x), len(self.mesh_state.tri)) != (
+                self._npl, self._S, len(self.inserters), len(d["mesh.x"]), len(d["mesh.tri"])):
+            raise GsiInputError(
+                f"restart: the checkpoint has {npl} planes, {len(d['mesh.tri'])} wall triangles "
+                f"and {n_ins} inserters, this case {self._npl}, {len(self.mesh_state.tri)} and "
+                f"{len(self.inserters)}; resume with the case that wrote it")
+        if float(d["scalars"][1]) != self.dt:
+            raise GsiInputError(f"restart: dt = {self.dt} s differs from the checkpoint's "
+                                f"{float(d['scalars'][1])} s; resume with the case that wrote it")
+        self.n = 0
+        self._alloc(max(16, n))
+        for k in PARTICLE_FIELDS:
+            self._pa[k][:n] = d[f"p.{k}"]
+        for k in WALL_CONTACT_FIELDS:
+            self._wa[k][:n] = d[f"wc.{k}"]
+        self._overflow[:] = d["wc.overflow"]
+        self.n = n
+        self.pairs = Pairs(*[np.ascontiguousarray(d[f"pairs.{k}"]) for k in Pairs._fields])
+        for prefix, bundle in (("planes", self.plane_state), ("mesh", self.mesh_state)):
+            for k, a in zip(bundle._fields, bundle):
+                a[...] = d[f"{prefix}.{k}"]
+        self._ids_at_build = np.array(d["ids_at_build"], np.int64)
+        self.time = float(d["scalars"][0])
+        self.step_count, self.n_lost, self._next_id = step_count, n_lost, next_id
+        self.n_rebuilds = n_rebuilds
+        (self._need_rebuild, self._forces_valid, self._dt_checked, self._heat_warned,
+         self._built) = (bool(v) for v in d["flags"])
+        self.rng.bit_generator.state = _rng_state_from_arrays(
+            {k[4:]: v for k, v in d.items() if k.startswith("rng.")})
+        for i, ins in enumerate(self.inserters):
+            ins.set_state({k[len(f"ins{i}."):]: v for k, v in d.items()
+                           if k.startswith(f"ins{i}.")})
+
+
+def _rng_state_arrays(state, prefix=""):
+    """A bit generator's state dict as flat arrays: integers as little-endian uint64
+    words (``<key>#int``, any size), strings as unicode scalars, arrays as they are."""
+    out = {}
+    for k, v in state.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, dict):
+            out.update(_rng_state_arrays(v, key + "/"))
+        elif isinstance(v, str):
+            out[key] = np.array(v)
+        elif isinstance(v, (int, np.integer)):
+            v = int(v)
+            words = [v & 0xFFFFFFFFFFFFFFFF]
+            v >>= 64
+            while v:
+                words.append(v & 0xFFFFFFFFFFFFFFFF)
+                v >>= 64
+            out[key + "#int"] = np.array(words, np.uint64)
+        else:
+            out[key] = np.array(v)
+    return out
+
+
+def _rng_state_from_arrays(arrays):
+    """Inverse of :func:`_rng_state_arrays`."""
+    state = {}
+    for key, v in arrays.items():
+        if key.endswith("#int"):
+            key = key[:-4]
+            v = sum(int(w) << (64 * i) for i, w in enumerate(v))
+        elif v.dtype.kind == "U":
+            v = str(v)
+        node = state
+        *parents, leaf = key.split("/")
+        for p in parents:
+            node = node.setdefault(p, {})
+        node[leaf] = v
+    return state
 
 def _rows_of(ids, wanted):
     """Rows of ``wanted`` ids in the id array ``ids`` (-1 where absent); ``ids`` are

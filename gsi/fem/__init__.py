@@ -9,8 +9,9 @@ in :mod:`gsi.fem.compat`.
 * :class:`~gsi.fem.heat.Heat` -- theta-scheme conduction with fixed temperature, flux,
   convection by tag and nodal heat loads.
 * :class:`~gsi.fem.thermoelastic.ThermoElastic` -- heat then elasticity each step.
-* :class:`~gsi.fem.surface.ContactSurface` -- the tagged surface as triangles for the DEM,
-  gathered on every rank; loads scattered to the owning ranks.
+* :class:`~gsi.fem.surface.ContactSurface` -- the tagged surface(s) as triangles, gathered
+  on every rank; loads and heat scattered to the owning ranks (the coupling's
+  :class:`gsi.coupling.interface.SurfaceInterface` builds the DEM wall on it).
 * :class:`~gsi.fem.output.FemOutput` -- XDMF fields and a CSV of key numbers.
 * :mod:`~gsi.fem.materials` -- ``StructuralMaterial`` and the ``MATERIALS`` library.
 

@@ -227,6 +227,15 @@ class Elasticity:
         self.nodal.clear()
 
     @property
+    def supports(self) -> tuple[str, ...]:
+        """Tags with a prescribed displacement (:meth:`clamp`), in the order given."""
+        return tuple(dict.fromkeys(tag for tag, _, _ in self._bc_specs))
+
+    def has_prescribed_motion(self) -> bool:
+        """True if some support prescribes a nonzero displacement (local, no MPI call)."""
+        return any(np.any(v) for _, _, v in self._bc_specs)
+
+    @property
     def n_factorizations(self) -> int:
         """Number of factorizations of the effective matrix so far (1 after set-up)."""
         return 0 if self._solver is None else self._solver.n_factorizations

@@ -18,8 +18,37 @@ theta = 1 (backward Euler, default) is L-stable and does not oscillate after a s
 change of a boundary temperature; theta = 1/2 (Crank-Nicolson) is second order.
 The matrix C/dt + theta K is assembled and factorized once; h of each tag must be set
 before the first step (T_ambient, q and the nodal loads may change every step).
+
+theta < 1/2 (theta = 0: the explicit forward difference of seed 002, the FDEM
+contact-heat paper, eq. "{T}_{n+1} = {T}_n + dt {T'}_n", with {T'}_n solved from the
+consistent capacity matrix as the paper's Eq. 14) is only conditionally stable. A mode
+of the generalised problem K v = lambda C v is amplified by
+g = (1 - (1 - theta) lambda dt)/(1 + theta lambda dt), and |g| <= 1 for every mode iff
+
+.. math::
+    dt \le \frac{2}{(1 - 2\theta)\,\lambda_{max}} .
+
+The bound used (:meth:`Heat.stable_dt`, P1 simplices only) is the element eigenvalue
+bound lambda_max <= max over cells e of lambda_e (the Rayleigh quotient of the assembled
+pair is a ratio of sums of element quotients; Dirichlet constraints only lower it).
+For a P1 simplex of dimension d, volume V and barycentric gradients g_0..g_d (G the
+(d+1) x d matrix of them), K_e = k V G G^T and C_e = rho c V/((d+1)(d+2)) (I + 1 1^T);
+K_e 1 = 0 and C_e = rho c V/((d+1)(d+2)) I on the complement of 1, so exactly
+
+.. math::
+    \lambda_e = (d+1)(d+2)\, \alpha\, \lambda_{max}(G^T G), \qquad \alpha = k/(\rho c),
+
+plus, for each facet of the cell under convection h (its matrix h A/(d(d+1)) (I + 1 1^T),
+largest eigenvalue h A/d, against the smallest eigenvalue of C_e),
+(d+1)(d+2) h A/(d rho c V). In 1D this is the classical consistent-mass limit
+dt <= h^2/(6 alpha), a third of the lumped-mass h^2/(2 alpha) of the textbook rule
+dt <= h^2/(2 d alpha); lambda_max(G^T G) <= sum_i 1/h_i^2 (h_i the cell's heights)
+relates it to the cell sizes in 3D. Above the bound :class:`Heat` refuses to step
+(GsiInputError naming ``theta_key``).
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import ufl
@@ -44,12 +73,15 @@ class Heat:
     dt : float
         Time step (s).
     theta : float
-        0.5 <= theta <= 1 (default 1, backward Euler).
+        0 <= theta <= 1 (default 1, backward Euler); below 0.5 only P1 and only with
+        dt <= :meth:`stable_dt` (0: explicit forward difference).
     T_initial : float
         Uniform initial temperature (K or degC).
     degree : int
         Lagrange degree 1 or 2.
     factorization : {"lu", "cholesky"}
+    theta_key : str
+        Key named by the stability error (e.g. ``structures[0].thermal.theta``).
 
     Notes
     -----
@@ -57,13 +89,18 @@ class Heat:
     """
 
     def __init__(self, structure, material, *, dt: float, theta: float = 1.0,
-                 T_initial: float = 0.0, degree: int = 1, factorization: str = "lu"):
+                 T_initial: float = 0.0, degree: int = 1, factorization: str = "lu",
+                 theta_key: str = "structure.heat.theta"):
         if not (dt is not None and np.isfinite(dt) and dt > 0):
             raise GsiInputError(f"structure.heat.dt = {dt!r}: must be > 0 (s)")
-        if not 0.5 <= theta <= 1.0:
-            raise GsiInputError(f"structure.heat.theta = {theta!r}: must be in [0.5, 1]")
+        if not 0.0 <= theta <= 1.0:
+            raise GsiInputError(f"{theta_key} = {theta!r}: must be in [0, 1]")
         if degree not in (1, 2):
             raise GsiInputError(f"structure.heat.degree = {degree!r}: must be 1 or 2")
+        if theta < 0.5 and degree != 1:
+            raise GsiInputError(f"{theta_key} = {theta!r}: below 0.5 (explicit) needs degree 1 "
+                                f"(its stability bound is for P1); use degree = 1 or theta >= 0.5")
+        self.theta_key = theta_key
         self.structure = structure
         self.mesh = mesh = structure.mesh
         self.comm = mesh.comm
@@ -132,6 +169,30 @@ class Heat:
         self.nodal.clear()
 
     @property
+    def fixed_tags(self) -> tuple[str, ...]:
+        """Tags with a fixed temperature (:meth:`fix_temperature`)."""
+        return tuple(self._bc_dofs_by_tag)
+
+    def exchange_tags(self) -> list[str]:
+        """Tags through which heat can cross the boundary: convection (h > 0), a nonzero
+        prescribed flux, or a fixed temperature (the others are insulated)."""
+        return [n for n in self.h if self.h[n] > 0.0 or self.q[n].value != 0.0
+                or n in self._bc_dofs_by_tag]
+
+    def volume(self) -> float:
+        """Volume of the body (m^3) (collective; computed once)."""
+        if getattr(self, "_volume", None) is None:
+            self._volume = compat.assemble_scalar(
+                compat.form(compat.constant(self.mesh, 1.0) * compat.measure("dx", self.mesh)),
+                self.comm)
+        return self._volume
+
+    def mean_temperature(self) -> float:
+        """Volume mean of the temperature, int rho c T dx / (rho c V) (collective)."""
+        m = self.material
+        return self.stored_heat() / (m.rho * m.c * self.volume())
+
+    @property
     def n_factorizations(self) -> int:
         return 0 if self._solver is None else self._solver.n_factorizations
 
@@ -163,7 +224,9 @@ class Heat:
             if self.h[n] > 0.0:
                 f_form += compat.constant(self.mesh, self.h[n]) * self.T_amb[n] * w * ds(tags[n])
         theta, dt = self.theta, self.dt
-        self._a = compat.form((1.0 / dt) * c_form + theta * k_form)
+        self.check_stability()
+        a_form = (1.0 / dt) * c_form if theta == 0.0 else (1.0 / dt) * c_form + theta * k_form
+        self._a = compat.form(a_form)
         self._C = compat.assemble_matrix(compat.form(c_form))
         self._Kmat = compat.assemble_matrix(compat.form(k_form))
         self._f = compat.form(f_form)
@@ -177,6 +240,65 @@ class Heat:
         compat.apply_lifting_and_accumulate(self._lift, self._a, self.bcs)
         self._solver = FactorOnceSolver(self._A, self.comm, factorization=self.factorization)
         self._solver.factorize()
+
+    def stable_dt(self) -> float:
+        """Largest stable step (s) of the theta-scheme for theta < 1/2 (inf for theta >=
+        1/2): 2/((1 - 2 theta) lambda), lambda the element bound of the module docstring
+        (P1 cells, convection included; collective)."""
+        if self.theta >= 0.5:
+            return np.inf
+        lam = self.eigenvalue_bound()
+        return 2.0 / ((1.0 - 2.0 * self.theta) * lam) if lam > 0 else np.inf
+
+    def eigenvalue_bound(self) -> float:
+        """Upper bound (1/s) of the largest eigenvalue of C^-1 K (module docstring; P1
+        simplices; collective)."""
+        m = self.material
+        x = compat.geometry_x(self.mesh)
+        cells = compat.geometry_dofmap(self.mesh)
+        d = self.mesh.topology.dim
+        if cells.shape[1] != d + 1:
+            raise GsiInputError(f"{self.theta_key} = {self.theta!r}: the explicit stability "
+                                "bound needs straight P1 simplices (this mesh has curved cells)")
+        X = x[cells]                                             # (n, d+1, 3)
+        J = np.transpose(X[:, 1:, :] - X[:, :1, :], (0, 2, 1))   # columns: edges from node 0
+        JtJ = np.einsum("nai,naj->nij", J, J)
+        V = np.sqrt(np.abs(np.linalg.det(JtJ))) / math.factorial(d)
+        Jinv = np.linalg.solve(JtJ, np.transpose(J, (0, 2, 1)))  # rows: gradients of nodes 1..d
+        G = np.concatenate([-Jinv.sum(1, keepdims=True), Jinv], axis=1)  # (n, d+1, 3)
+        GtG = np.einsum("nia,nib->nab", G, G)
+        lam = (d + 1) * (d + 2) * (m.k / (m.rho * m.c)) * np.linalg.eigvalsh(GtG)[:, -1]
+        for name, h in self.h.items():
+            if h <= 0.0:
+                continue
+            facets = compat.meshtag_find(self.structure.facet_tags, self.structure.tags[name])
+            if len(facets) == 0:
+                continue
+            fn = compat.entities_to_geometry(self.mesh, d - 1, facets)
+            F = x[fn]
+            E = F[:, 1:, :] - F[:, :1, :]
+            gram = np.einsum("nia,nja->nij", E, E)              # facet measure from its Gram
+            A = np.sqrt(np.abs(np.linalg.det(gram))) / math.factorial(d - 1)
+            area = {tuple(sorted(f)): a for f, a in zip(fn.tolist(), A)}
+            for c, nodes in enumerate(cells.tolist()):
+                for skip in range(d + 1):
+                    key = tuple(sorted(nodes[:skip] + nodes[skip + 1:]))
+                    if key in area:
+                        lam[c] += (d + 1) * (d + 2) * h * area[key] / (d * m.rho * m.c * V[c])
+        local = float(lam.max()) if len(lam) else 0.0
+        return self.comm.allreduce(local, op=MPI.MAX)
+
+    def check_stability(self) -> None:
+        """Refuse (GsiInputError naming ``theta_key``) a theta < 1/2 step above
+        :meth:`stable_dt` (collective; nothing to check for theta >= 1/2)."""
+        if self.theta >= 0.5:
+            return
+        limit = self.stable_dt()
+        if self.dt > limit:
+            raise GsiInputError(
+                f"{self.theta_key} = {self.theta:g}: the step dt = {self.dt:.4g} s is above the "
+                f"explicit stability limit {limit:.4g} s (2/((1 - 2 theta) lambda_max), P1 "
+                f"element bound); lower dt or use theta >= 0.5")
 
     def _assemble_load(self, out):
         compat.assemble_vector_ghosted(out, self._f)

@@ -37,9 +37,11 @@ class ContactSurface:
     ----------
     elasticity : gsi.fem.elasticity.Elasticity, optional
     heat : gsi.fem.heat.Heat, optional
-        At least one; both must live on the same structure.
-    tag : str
-        Surface name (default "contact").
+        At least one; both must live on the same structure (a heat problem can also be
+        added later with :meth:`attach`).
+    tag : str or sequence of str
+        Surface name(s) (default "contact"); several tags make one surface of all their
+        facets (a facet in two of them counts once).
 
     Attributes
     ----------
@@ -55,12 +57,17 @@ class ContactSurface:
         prob = elasticity if elasticity is not None else heat
         if prob is None:
             raise GsiInputError("coupling.surface: needs an elasticity or a heat problem")
-        self.elasticity, self.heat, self.tag = elasticity, heat, tag
-        structure = prob.structure
+        self.elasticity, self.heat = elasticity, heat
+        self.tags = (tag,) if isinstance(tag, str) else tuple(tag)
+        if not self.tags:
+            raise GsiInputError("coupling.surface: give at least one surface tag")
+        self.tag = self.tags[0] if len(self.tags) == 1 else self.tags
+        self.structure = structure = prob.structure
         mesh = structure.mesh
         self.comm = comm = mesh.comm
-        tv = structure.facet_tag(tag)
-        facets = compat.meshtag_find(structure.facet_tags, tv)
+        facets = np.unique(np.concatenate(
+            [compat.meshtag_find(structure.facet_tags, structure.facet_tag(t))
+             for t in self.tags]).astype(np.int32))
         nodes = compat.entities_to_geometry(mesh, mesh.topology.dim - 1, facets, orient=True)
         gids = compat.input_global_indices(mesh)
         x = compat.geometry_x(mesh)
@@ -86,17 +93,23 @@ class ContactSurface:
         self.triangles = np.searchsorted(self.global_ids, tri).astype(np.int64)
         # owned rows and their dofs, per problem
         self._own = {}
+        self.attach(elasticity=elasticity, heat=heat)
+
+    def attach(self, *, elasticity=None, heat=None) -> None:
+        """Gather from / scatter to ``elasticity`` and/or ``heat`` too (same structure).
+        Collective."""
         for name, p in (("elasticity", elasticity), ("heat", heat)):
             if p is None:
                 continue
-            if p.structure is not structure:
+            if p.structure is not self.structure:
                 raise GsiInputError("coupling.surface: elasticity and heat must share one structure")
             rows, dofs = p.vmap.lookup_owned(self.global_ids)
+            n_owned = self.comm.allreduce(int(rows.size), op=MPI.SUM)
+            if n_owned != self.global_ids.size:
+                raise RuntimeError(f"ContactSurface: {n_owned} owned vertices for "
+                                   f"{self.global_ids.size} surface vertices")
             self._own[name] = (rows, dofs, p.vmap.bs)
-        n_owned = comm.allreduce(int(self._own[next(iter(self._own))][0].size), op=MPI.SUM)
-        if n_owned != self.global_ids.size:
-            raise RuntimeError(f"ContactSurface: {n_owned} owned vertices for "
-                               f"{self.global_ids.size} surface vertices")
+            setattr(self, name, p)
 
     @property
     def n_vertices(self) -> int:

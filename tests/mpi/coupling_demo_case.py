@@ -8,18 +8,19 @@ import sys
 import numpy as np
 from mpi4py import MPI
 
-from gsi.config.case import load_case
-from gsi.drivers.hopper_membrane import run
+from gsi.case import load_case
+from gsi.runner import run_case
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 if __name__ == "__main__":
     out = pathlib.Path(sys.argv[1])
     case = load_case(ROOT / "demos" / "hopper_membrane.toml")
-    run(case, out=out.with_suffix(""), quick=True, verbose=False, pictures=False)
+    run_case(case, out=out.with_suffix(""), quick=True, verbose=False, pictures=False)
     if MPI.COMM_WORLD.rank == 0:
         res = {}
-        for name in ("coupling", "history"):
-            a = np.genfromtxt(out.with_suffix("") / f"{name}.csv", delimiter=",", names=True)
+        for name, path in (("coupling", "membrane_coupling.csv"),
+                           ("history", "monitors/discharged.csv")):
+            a = np.genfromtxt(out.with_suffix("") / path, delimiter=",", names=True)
             res[name] = {c: a[c].tolist() for c in a.dtype.names}
         out.write_text(json.dumps(res))

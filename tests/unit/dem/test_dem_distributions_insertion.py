@@ -6,6 +6,7 @@ import pytest
 
 from gsi.dem import (Box, Cylinder, Discrete, Material, Normal, Simulation, Uniform,
                      lattice_fill, random_fill)
+from gsi.dem.insertion import Sphere
 from gsi.errors import GsiInputError
 
 
@@ -31,7 +32,7 @@ def test_lattice_fill_spacing_and_bounds():
 
 
 @pytest.mark.parametrize("region", [Box((0, 0, 0), (0.02, 0.02, 0.02)),
-                                    Cylinder((0.0, 0.0), 0.01, 0.0, 0.02)])
+                                    Cylinder((0.0, 0.0, 0.0), 0.01, 0.02)])
 def test_random_fill_no_overlap_inside(region):
     rng = np.random.default_rng(1)
     x, r = random_fill(region, Uniform(0.8e-3, 1e-3), volume_fraction=0.15, rng=rng)
@@ -61,3 +62,22 @@ def test_inserter_rate_and_max_count():
     np.testing.assert_allclose(sim.v, [[0, 0, 1e-3]] * 15)
     sim.step(5000)
     assert ins.n_attempted == 25 and sim.n == 25      # capped
+
+
+@pytest.mark.parametrize("region", [Cylinder((0.05, 0.02, 0.05), 0.02, 0.06, axis=(0, 1, 0)),
+                                    Sphere((0.05, 0.05, 0.05), 0.02)])
+def test_inserter_in_any_region_places_whole_spheres_inside(region):
+    sim = Simulation({"m": Material(E=5e6, nu=0.3, rho=2500)}, gravity=(0, 0, 0), dt=1e-5,
+                     skin=2e-4, domain=((0, 0, 0), (0.1, 0.1, 0.1)), seed=0)
+    ins = sim.add_inserter(region, 2e4, radius=Uniform(1e-3, 2e-3), material="m", max_count=40)
+    sim.step(300)                   # 3 ms -> 40 due (the cap)
+    assert ins.n_attempted == 40 and ins.n_inserted == sim.n > 30
+    assert sorted(ins.ids.tolist()) == sorted(sim.ids.tolist())
+    if isinstance(region, Sphere):
+        d = np.linalg.norm(sim.x - 0.05, axis=1)
+        assert (d + sim.radius <= 0.02 + 1e-12).all()
+    else:
+        rho = np.hypot(sim.x[:, 0] - 0.05, sim.x[:, 2] - 0.05)
+        y = sim.x[:, 1] - 0.02
+        assert (rho + sim.radius <= 0.02 + 1e-12).all()
+        assert (y - sim.radius >= -1e-12).all() and (y + sim.radius <= 0.06 + 1e-12).all()

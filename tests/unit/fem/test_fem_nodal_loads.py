@@ -105,4 +105,4 @@ def test_input_errors_are_one_line(plate):
     with pytest.raises(GsiInputError):
         Elasticity(plate, "steel").clamp("nowhere")
     with pytest.raises(GsiInputError):
-        Heat(plate, "steel", dt=1.0, theta=0.2)
+        Heat(plate, "steel", dt=1.0, theta=1.2)

@@ -53,3 +53,19 @@ def test_barycentric_point_force_is_applied_exactly(plate):
     q[tri] = 5.0 * w
     s.add_nodal_heat(q)
     assert h.nodal_heat() == pytest.approx(5.0, rel=1e-12)
+
+
+def test_several_tags_make_one_surface():
+    """contact.tags = ["z1", "x0"]: one triangle set of both faces; a tag given twice
+    counts once; the P2 interface splits the union at its edge midpoints."""
+    from gsi.coupling.interface import SurfaceInterface
+    box = meshes.build("box", length_x=0.2, length_y=0.1, length_z=0.05, n=(4, 2, 1))
+    p = Elasticity(box, "steel", degree=2)
+    s = ContactSurface(elasticity=p, tag=["z1", "x0"])
+    assert s.area() == pytest.approx(0.2 * 0.1 + 0.1 * 0.05, rel=1e-12)
+    assert ContactSurface(elasticity=p, tag=["z1", "z1"]).n_triangles == \
+        ContactSurface(elasticity=p, tag="z1").n_triangles
+    itf = SurfaceInterface(p, tag=("z1", "x0"))
+    assert itf.tags == ("z1", "x0") and len(itf.triangles) == 4 * s.n_triangles
+    # the shared edge's vertices appear once
+    assert s.n_vertices == len(np.unique(s.triangles))

@@ -1,0 +1,146 @@
+"""Monitors: time series of a few numbers, written to ``<out>/monitors/<name>.csv``.
+
+Each ``[[monitors]]`` table is one :class:`Monitor`; its ``kind`` says what it measures:
+
+``wall``
+    Force (N) of the particles on a wall (``target`` = a ``[[walls]]`` name or a
+    ``[[structures]]`` name: its contact wall) and the torque (N m) about ``point``
+    (default: the origin). A wall made of several planes (a box) sums them.
+``discharge``
+    Mass (kg) and number of the particles beyond a plane (``point``, ``normal`` pointing
+    to the discharge side), e.g. under a hopper outlet; plus the particles lost from the
+    domain so far.
+``temperature``
+    Heat-capacity weighted mean, minimum and maximum particle temperature (K) of a group
+    (``group`` = a ``[[particles]]`` name) or of the particles inside a ``region``.
+``structure``
+    Largest displacement (m) and von Mises stress (Pa), mean temperature (K) and the
+    interface load (N) of a structure (``target``).
+``particles``
+    Count, particles lost, kinetic energy (J), contacts, and the top of the bed (m, along
+    -gravity).
+
+A monitor samples every ``interval`` seconds of simulated time (default: the output
+interval); the runner makes sure a sample falls on each multiple of it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from gsi.case.regions import Region
+from gsi.config.schema import one_of, param, positive
+from gsi.errors import GsiInputError
+
+__all__ = ["Monitor", "MONITOR_KINDS"]
+
+MONITOR_KINDS = ("wall", "discharge", "temperature", "structure", "particles")
+
+_COLUMNS = {
+    "wall": ["Fx_N", "Fy_N", "Fz_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"],
+    "discharge": ["mass_kg", "count", "lost"],
+    "temperature": ["T_mean_K", "T_min_K", "T_max_K", "count"],
+    "structure": ["max_displacement_m", "max_von_mises_Pa", "T_mean_K", "load_x_N",
+                  "load_y_N", "load_z_N"],
+    "particles": ["count", "lost", "kinetic_energy_J", "contacts", "bed_top_m"],
+}
+
+
+@dataclass(kw_only=True)
+class Monitor:
+    """A time series of one kind of measurement (see the module docstring)."""
+
+    name: str = param(doc="name of the series (file monitors/<name>.csv)")
+    kind: str = param(check=one_of(*MONITOR_KINDS), doc="what it measures")
+    target: Optional[str] = param(None, doc="wall or structure name (wall, structure)")
+    group: Optional[str] = param(None, doc="particle source name (temperature)")
+    region: Optional[Region] = param(None, doc="region of the particles (temperature)")
+    point: tuple[float, ...] = param((0.0, 0.0, 0.0), unit="m", length=3,
+                                     doc="torque reference point (wall); plane point (discharge)")
+    normal: Optional[tuple[float, ...]] = param(None, unit="-", length=3,
+                                                doc="discharge side of the plane (discharge)")
+    interval: Optional[float] = param(None, unit="s", check=positive(),
+                                      doc="sampling interval (default: output.interval)")
+
+    def validate(self, path: str) -> None:
+        need = {"wall": ("target",), "structure": ("target",), "discharge": ("normal",),
+                "temperature": (), "particles": ()}[self.kind]
+        for key in need:
+            if getattr(self, key) is None:
+                raise GsiInputError(f"{path}.{key}: missing; a '{self.kind}' monitor needs "
+                                    f"{', '.join(need)}")
+        if self.kind == "temperature" and (self.group is None) == (self.region is None):
+            raise GsiInputError(f"{path}: a 'temperature' monitor needs exactly one of group "
+                                f"or region")
+        if self.kind == "discharge" and not any(self.normal):
+            raise GsiInputError(f"{path}.normal = {list(self.normal)}: must be a nonzero vector")
+
+    @property
+    def columns(self) -> list[str]:
+        """CSV column names after ``time_s``."""
+        return list(_COLUMNS[self.kind])
+
+    def check(self, path: str, *, walls: set, structures: set, groups: set,
+              thermal: bool) -> None:
+        """Names that must exist in the case (before a run)."""
+        if self.kind == "wall" and self.target not in walls | structures:
+            raise GsiInputError(f"{path}.target = {self.target!r}: no wall or structure of that "
+                                f"name; known: {', '.join(sorted(walls | structures)) or 'none'}")
+        if self.kind == "structure" and self.target not in structures:
+            raise GsiInputError(f"{path}.target = {self.target!r}: no structure of that name; "
+                                f"known: {', '.join(sorted(structures)) or 'none'}")
+        if self.kind == "temperature":
+            if self.group is not None and self.group not in groups:
+                raise GsiInputError(f"{path}.group = {self.group!r}: no [[particles]] of that "
+                                    f"name; known: {', '.join(sorted(groups)) or 'none'}")
+            if not thermal:
+                raise GsiInputError(f"{path}.kind = 'temperature': needs dem.heat other than "
+                                    f"'none'")
+
+    # ------------------------------------------------------------------ sampling
+    def sample(self, run) -> Optional[list[float]]:
+        """The row of values at the runner's current time (collective for ``structure``;
+        the DEM values exist on the DEM rank only, None elsewhere)."""
+        if self.kind == "structure":
+            st = run.structure(self.target)
+            row = [st.max_displacement(), st.max_von_mises(), st.mean_temperature(),
+                   *st.interface_load()]
+            return row if run.is_root else None
+        if not run.is_root:
+            return None
+        sim = run.sim
+        if self.kind == "wall":
+            p = np.asarray(self.point, float)
+            F = np.zeros(3)
+            T = np.zeros(3)
+            for h in run.wall_handles(self.target):
+                ref = h.point if hasattr(h, "point") else h.centre
+                F += h.force
+                T += h.torque + np.cross(ref - p, h.force)
+            return [*F, *T]
+        if self.kind == "discharge":
+            n = np.asarray(self.normal, float)
+            n = n / np.linalg.norm(n)
+            beyond = (sim.x - np.asarray(self.point, float)) @ n > 0.0
+            return [float(sim.mass[beyond].sum()), int(beyond.sum()), int(sim.n_lost)]
+        if self.kind == "temperature":
+            if self.group is not None:
+                ids = run.group_ids(self.group)
+                rows = np.flatnonzero(np.isin(sim.ids, ids))
+            else:
+                rows = np.flatnonzero(self.region.contains(sim.x, sim.radius * 0.0))
+            if len(rows) == 0:
+                return [math.nan, math.nan, math.nan, 0]
+            mcp = run.heat_capacity()[rows]
+            T = sim.T[rows]
+            return [float((mcp * T).sum() / mcp.sum()), float(T.min()), float(T.max()),
+                    len(rows)]
+        # particles
+        g = np.asarray(run.case.dem.gravity, float)
+        up = -g / np.linalg.norm(g) if np.any(g) else np.array([0.0, 0.0, 1.0])
+        top = float((sim.x @ up + sim.radius).max()) if sim.n else math.nan
+        return [int(sim.n), int(sim.n_lost), sim.kinetic_energy(), int(sim.contact_count()),
+                top]
