@@ -6,6 +6,9 @@ LIGGGHTS ``lattice sc 0.0021`` + ``create_atoms``), each displaced uniformly by 
 0.05 mm per axis, settle under gravity in an 84 x 84 mm box with five planes (Hertz +
 tangential history, E = 5 MPa, nu = 0.3, e = 0.5, mu = 0.5, dt = 2 us, skin 0.4 mm).
 Run 1 settles (--settle-steps, default 50,000), run 2 is timed (--timed-steps, 10,000).
+The particle rows are re-ordered at each neighbour build (``sort_particles=True``;
+LIGGGHTS sorts its atoms too, ``atom_modify sort``); ``--no-sort`` keeps them in id
+order.
 
 Usage::
 
@@ -43,12 +46,13 @@ def lattice_positions(seed=15485863):
     return x + rng.uniform(-5e-5, 5e-5, x.shape)
 
 
-def run_gsi(settle_steps, timed_steps):
+def run_gsi(settle_steps, timed_steps, save_state=None, sort=True):
     import numpy as np
     from gsi.dem import Simulation, Material
     glass = Material(E=5e6, nu=0.3, rho=2500.0, e=0.5, mu=0.5)
     sim = Simulation({"glass": glass}, contact="hertz", gravity=(0, 0, -9.81), dt=2e-6,
-                     skin=4e-4, domain=((0, 0, 0), (0.084, 0.084, 0.3)))
+                     skin=4e-4, domain=((0, 0, 0), (0.084, 0.084, 0.3)),
+                     sort_particles=sort)
     x = lattice_positions()
     assert len(x) == 19773, len(x)
     sim.add_particles(x, 0.001, material="glass")
@@ -66,6 +70,8 @@ def run_gsi(settle_steps, timed_steps):
     t0 = time.perf_counter()
     sim.step(timed_steps)
     t_timed = time.perf_counter() - t0
+    if save_state:
+        np.savez(save_state, x=sim.x, v=sim.v, omega=sim.omega)
     return dict(
         gsi_particle_steps_per_s=sim.n * timed_steps / t_timed,
         gsi_seconds=t_timed, gsi_settle_seconds=t_settle, gsi_first_step_seconds=t_first,
@@ -114,12 +120,18 @@ def main(argv=None):
     ap.add_argument("--vs-liggghts", action="store_true", help="also run LIGGGHTS (N ranks = threads)")
     ap.add_argument("--settle-steps", type=int, default=50000)
     ap.add_argument("--timed-steps", type=int, default=10000)
+    ap.add_argument("--no-sort", action="store_true",
+                    help="keep the particle rows in id order (default: sorted at each "
+                         "neighbour build, as LIGGGHTS sorts its atoms)")
+    ap.add_argument("--save-state", default=None,
+                    help="write the final x, v, omega to this .npz (for benchmarks/settle_scale.py)")
     args = ap.parse_args(argv)
     import numba
     threads = args.threads or numba.config.NUMBA_NUM_THREADS
     numba.set_num_threads(threads)
     res = {"gsi_threads": threads}
-    res.update(run_gsi(args.settle_steps, args.timed_steps))
+    res.update(run_gsi(args.settle_steps, args.timed_steps, args.save_state,
+                       not args.no_sort))
     for k, v in res.items():
         print(f"{k} = {v}")
     if args.vs_liggghts:

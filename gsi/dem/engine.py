@@ -182,7 +182,9 @@ def plane_contacts(i, sl, P, pl, wc, plh, tab, row_i, dt, pl_acc):
     ``pl_acc[sl, p]`` (see :func:`gsi.dem.wall_kernels.plane_sums`).  The springs are
     ``plh[i * npl + p]`` (``wc.plane_hist`` flattened once per pass: a row view per
     particle would count references in the hot loop); a contact that ends restarts
-    its spring.  Returns ``(fx, fy, fz, tx, ty, tz, q, n_contacts)``."""
+    its spring.  Only the planes of ``wc.plane_cand[i]`` (within R + skin at the last
+    neighbour build) are looked at: most particles touch none.
+    Returns ``(fx, fy, fz, tx, ty, tz, q, n_contacts)``."""
     fx = 0.0
     fy = 0.0
     fz = 0.0
@@ -191,9 +193,10 @@ def plane_contacts(i, sl, P, pl, wc, plh, tab, row_i, dt, pl_acc):
     tz = 0.0
     qi = 0.0
     nc = 0
-    npl = pl.point.shape[0]
-    if npl == 0:
+    cand = wc.plane_cand[i]
+    if cand == 0:
         return fx, fy, fz, tx, ty, tz, qi, nc
+    npl = pl.point.shape[0]
     ri = P.radius[i]
     Ti = P.T[i]
     xi0 = P.x[i, 0]
@@ -203,6 +206,8 @@ def plane_contacts(i, sl, P, pl, wc, plh, tab, row_i, dt, pl_acc):
     pmask = 0
     was = wc.plane_mask[i]             # planes touched at the last step
     for p in range(npl):
+        if not (cand >> p) & 1:
+            continue
         Nx = pl.normal[p, 0]
         Ny = pl.normal[p, 1]
         Nz = pl.normal[p, 2]

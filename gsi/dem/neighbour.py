@@ -13,6 +13,8 @@
   its partners up in the old list through ``old_of_new`` (new index -> old index,
   -1 for new particles) and copies the spring (negated if the pair is stored the
   other way round).
+- Plane candidates: the planes within R_i + skin of particle i (a bit mask); planes
+  moving more than skin/2 since the build also trigger a rebuild.
 - Triangle candidates: triangles are binned into the cells near them (inflated by
   R_max + skin); particle i keeps the triangles of its cell closer than R_i + skin.
 """
@@ -22,6 +24,7 @@ import numpy as np
 
 from gsi.jit import njit, pjit, prange
 from gsi.dem.geometry import closest_point_triangle
+from gsi.dem.contact_geometry import plane_distance
 
 
 def grid_for(lo, hi, cell_min, n):
@@ -208,6 +211,24 @@ def carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, old_start, old
                         hist[k, 2] = -old_hist[ko, 2]
                         pact[k] = old_pact[ko]
                         break
+
+
+@pjit
+def plane_candidates(x, radius, skin, point, normal, plane_cand):
+    """Bit p of ``plane_cand[i]`` set when plane p (``point``, unit ``normal``) lies
+    within R_i + skin of particle i.
+
+    Until the next build a particle and a plane each move less than skin/2 (planes
+    count in the rebuild criterion), so no other plane can touch the particle."""
+    npl = point.shape[0]
+    for i in prange(x.shape[0]):
+        m = 0
+        for p in range(npl):
+            dist = plane_distance(x[i, 0], x[i, 1], x[i, 2], point[p, 0], point[p, 1],
+                                  point[p, 2], normal[p, 0], normal[p, 1], normal[p, 2])
+            if dist < radius[i] + skin:
+                m |= 1 << p
+        plane_cand[i] = m
 
 
 @njit

@@ -57,6 +57,7 @@ PARTICLE_FIELDS = {
 WALL_CONTACT_FIELDS = {
     "plane_hist": (("npl", 3), np.float64),  # tangential spring per plane (m)
     "plane_mask": ((), np.int64),            # bit p set: touched plane p at the last step
+    "plane_cand": ((), np.int64),            # bit p set: plane p within R + skin at the build
     "count": ((), np.int32),                 # triangle contacts (used slots)
     "tri": (("S",), np.int32),               # triangle of each slot
     "kind": (("S",), np.int32),              # closest feature: 0 face, 1 edge, 2 vertex
@@ -91,6 +92,7 @@ tangential springs that live on them."""
 
 Planes = namedtuple("Planes", [
     "point",        # (npl, 3): a point of each plane (m), moves with the velocity
+    "point0",       # (npl, 3): the point at the last neighbour build (m)
     "normal",       # (npl, 3): unit normal into the domain
     "velocity",     # (npl, 3): (m/s)
     "type",         # (npl,) int32: material index
@@ -141,16 +143,17 @@ def empty_pairs(n):
 
 def empty_planes():
     """A plane bundle with no planes."""
-    return Planes(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, np.int32),
-                  np.zeros(0), np.zeros(0, np.uint8), np.zeros((0, 3)), np.zeros((0, 3)),
-                  np.zeros((0, 3)), np.zeros(0))
+    return Planes(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)),
+                  np.zeros(0, np.int32), np.zeros(0), np.zeros(0, np.uint8), np.zeros((0, 3)),
+                  np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0))
 
 
 def append_plane(pl, point, normal, velocity, mtype, T):
     """``pl`` with one more plane (accumulators 0; ``T`` None: adiabatic)."""
     def row(a, value):
         return np.concatenate([a, np.asarray([value], a.dtype)])
-    return Planes(row(pl.point, point), row(pl.normal, normal), row(pl.velocity, velocity),
+    return Planes(row(pl.point, point), row(pl.point0, point), row(pl.normal, normal),
+                  row(pl.velocity, velocity),
                   row(pl.type, mtype), row(pl.T, 0.0 if T is None else T),
                   row(pl.has_T, T is not None), row(pl.force, np.zeros(3)),
                   row(pl.torque, np.zeros(3)), row(pl.impulse, np.zeros(3)),

@@ -12,16 +12,23 @@ from gsi.jit import njit
 
 @njit
 def move_walls(dt, pl, M):
-    """Advance planes (point += v dt) and mesh vertices by one step; return max vertex disp^2.
+    """Advance planes (point += v dt) and mesh vertices by one step; return the largest
+    squared displacement of a plane or vertex since the last neighbour build (m^2).
 
     Rigid walls (``M.wall_rigid``) rotate exactly by omega dt about their centre and
     translate with ``M.wall_velocity``; their vertex velocities are
     v = vel + omega x (x - c).  Other walls move each vertex with its own velocity:
     x += v dt.
     """
+    dmax = 0.0
     for p in range(pl.point.shape[0]):
+        d2 = 0.0
         for d in range(3):
             pl.point[p, d] += dt * pl.velocity[p, d]
+            dd = pl.point[p, d] - pl.point0[p, d]
+            d2 += dd * dd
+        if d2 > dmax:
+            dmax = d2
     mx = M.x
     mv = M.v
     vel = M.wall_velocity
@@ -29,7 +36,6 @@ def move_walls(dt, pl, M):
         if M.wall_rigid[q]:
             for d in range(3):
                 M.wall_centre[q, d] += dt * vel[q, d]
-    dmax = 0.0
     for a in range(mx.shape[0]):
         q = M.vertex_wall[a]
         if M.wall_rigid[q]:

@@ -27,12 +27,15 @@ def test_half_list_equals_brute_force():
     assert got == want and len(want) > 40
 
 
-def test_history_survives_rebuild_and_deletion():
+@pytest.mark.parametrize("sort", [False, True])
+def test_history_survives_rebuild_and_deletion(sort):
     """Sheared touching pairs build springs; deleting an idle particle (rows shift) and
-    rebuilding keeps every spring attached to the same pair of ids."""
+    rebuilding keeps every spring attached to the same pair of ids (also when the rows
+    are re-ordered at each build)."""
     R, d = 1e-3, 2e-5
     L = 0.05
-    sim = Simulation(MAT, gravity=(0, 0, 0), dt=2e-6, skin=3e-4, domain=((0, 0, 0), (L, L, L)))
+    sim = Simulation(MAT, gravity=(0, 0, 0), dt=2e-6, skin=3e-4, domain=((0, 0, 0), (L, L, L)),
+                     sort_particles=sort)
     x, v = [], []
     for k in range(20):
         base = np.array([0.004 + 0.006 * (k % 5), 0.01 + 0.008 * (k // 5), 0.02])
@@ -40,6 +43,7 @@ def test_history_survives_rebuild_and_deletion():
         v += [[0, 0, 0], [0, 0.01, 0], [0, -0.01, 0.0]]
     sim.add_particles(np.array(x), R, material="m", v=np.array(v))
     sim.step(50)
+    assert (np.all(np.diff(sim.ids) > 0)) != sort      # sorted rows: ids out of order
 
     def springs():
         pr = sim.pairs
@@ -58,6 +62,35 @@ def test_history_survives_rebuild_and_deletion():
     assert set(after) == set(before)
     for key, h in before.items():
         np.testing.assert_array_equal(after[key], h)
+
+
+def test_sorted_rows_give_the_same_motion():
+    """``sort_particles``: rows re-ordered at every build into the force pass's visiting
+    order; the motion of each particle id is the unsorted one to round-off, and ids
+    still find their rows (index, fix)."""
+    def run(sort):
+        L = 0.03
+        sim = Simulation(MAT, gravity=(0, 0, -9.81), dt=2e-6, skin=3e-4,
+                         domain=((0, 0, 0), (L, L, L)), sort_particles=sort)
+        rng = np.random.default_rng(4)
+        x, r = random_fill(Box((0, 0, 0), (L, L, 0.02)), 1e-3, count=900, rng=rng)
+        ids = sim.add_particles(x, r, material="m", v=rng.normal(0, 1.0, x.shape))
+        sim.add_plane((0, 0, 0), (0, 0, 1), material="m")
+        sim.fix(ids[:5])
+        sim.step(2000)
+        return sim, x[:5]
+
+    a, x_fixed = run(False)
+    b, _ = run(True)
+    assert a.n_lost == b.n_lost and np.array_equal(np.sort(b.ids), a.ids)
+    ids = a.ids
+    ra, rb = a.index(ids), b.index(ids)
+    assert np.all(b.ids[rb] == ids) and not np.all(rb == ra)
+    assert a.n_rebuilds == b.n_rebuilds > 3 and a.contact_count() == b.contact_count() > 50
+    np.testing.assert_allclose(b.x[rb], a.x[ra], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(b.v[rb], a.v[ra], rtol=0, atol=1e-9 * np.abs(a.v).max())
+    np.testing.assert_allclose(b.planes[0].force, a.planes[0].force, rtol=1e-9)
+    np.testing.assert_array_equal(b.x[b.index(np.arange(5))], x_fixed)     # fixed by id
 
 
 def test_slab_layout_is_wide_enough_and_splits_evenly_over_threads():
@@ -147,3 +180,21 @@ def test_threads_give_the_serial_result(L, same_layout):
         np.testing.assert_allclose(b["plane"], a["plane"], rtol=1e-9)
         if same_layout:
             assert b["x"] == a["x"] and b["v"] == a["v"] and b["plane"] == a["plane"]
+
+
+def test_plane_moving_onto_particles_is_seen():
+    """A plane moving along its normal (a piston) reaches particles that were far from
+    it at the last build: plane motion counts in the rebuild criterion, so the plane
+    candidates of the particles are renewed before it arrives."""
+    L = 0.05
+    sim = Simulation(MAT, gravity=(0, 0, 0), dt=2e-6, skin=3e-4, domain=((0, 0, 0), (L, L, L)))
+    sim.add_particles([[0.02, 0.025, 0.025], [0.03, 0.025, 0.025]], 1e-3, material="m")
+    piston = sim.add_plane((0.005, 0, 0), (1, 0, 0), material="m", velocity=(1.0, 0, 0))
+    sim.step(1)
+    assert sim.wall_contacts.plane_cand.tolist() == [0, 0]
+    sim.step(9000)                   # the piston moves 18 mm: it meets the first particle
+    x_plane = piston.point[0]
+    assert x_plane > 0.022
+    assert sim.x[0, 0] - x_plane > 0.9e-3          # pushed ahead, never passed through
+    assert sim.v[0, 0] > 0.5
+    assert sim.n_rebuilds > 5
