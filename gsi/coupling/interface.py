@@ -22,7 +22,7 @@ FE step dt_FE, the nodal force is P_k = vertex_impulse_k / dt_FE (N).
   ab, bc, ca) and its vertices' barycentric coordinates in the parent
   (``parent_coords``); the DEM maps a contact's weights to parent coordinates l and puts
   the impulse on the six parent nodes with the P2 basis values l_a(2 l_a - 1), ...,
-  4 l_a l_b, ... (:func:`gsi.dem.engine.mesh_scatter`). So P_k is exactly the
+  4 l_a l_b, ... (:func:`gsi.dem.wall_kernels.mesh_scatter`). So P_k is exactly the
   consistent P2 nodal load of the point force: sum_k P_k . u_k = F . u(p) for every
   P2 field u. (The vertex weights are negative for l < 1/2, as P2's are.) The mid-edge
   nodes are found by coordinates: this needs straight-sided (geometry order 1) meshes.
