@@ -68,12 +68,9 @@ __all__ = ["Case", "load_case", "case_from_table", "case_to_table", "merge_table
            "DT_WARN", "DT_DEFAULT", "DT_REFUSE", "MAX_OVERLAP", "MAX_SKIN",
            "MAX_IMPACT_OVERLAP"]
 
-#: default DEM step as a fraction of the smallest Rayleigh time
-DT_DEFAULT = 0.2
-#: above this fraction of the Rayleigh time, contacts are resolved coarsely (warning)
-DT_WARN = 0.3
-#: above this fraction of the Rayleigh time a case is refused unless ``dem.force_dt``
-DT_REFUSE = 0.5
+# the one time-step rule's thresholds (fractions of the Rayleigh time / linear contact time)
+from gsi.dem.materials import (DT_DEFAULT, DT_LINEAR_DEFAULT, DT_LINEAR_REFUSE,  # noqa: E402
+                               DT_REFUSE, DT_WARN)
 #: largest initial overlap of two particles, as a fraction of the smaller radius (file and
 #: lattice sources; random fills never overlap)
 MAX_OVERLAP = 0.05
@@ -215,8 +212,8 @@ class Case:
         """
         if self.dem.contact == "linear":
             t_ref, name, default, warn = self.contact_time_linear(), "the linear contact time " \
-                "t_c = pi sqrt(m*/k_n)", 1.0 / 50, 1.0 / 50
-            limit = 0.1
+                "t_c = pi sqrt(m*/k_n)", DT_LINEAR_DEFAULT, DT_LINEAR_DEFAULT
+            limit = DT_LINEAR_REFUSE
         else:
             t_ref, name, default, warn = min(self.rayleigh_times()), "the Rayleigh time t_R", \
                 DT_DEFAULT, DT_WARN

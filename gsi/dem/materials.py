@@ -98,6 +98,16 @@ def beta_of_e(e):
     return le / math.sqrt(le * le + math.pi ** 2)
 
 
+#: the one time-step rule of gsi (used by gsi.case.Case.time_step and Simulation):
+#: default DEM step, warning and refusal thresholds as fractions of the Rayleigh time t_R
+DT_DEFAULT = 0.2
+DT_WARN = 0.3
+DT_REFUSE = 0.5
+#: the same for the linear law, as fractions of its contact time t_c = pi sqrt(m*/k_n)
+DT_LINEAR_DEFAULT = 1.0 / 50
+DT_LINEAR_REFUSE = 1.0 / 10
+
+
 def rayleigh_time(R, mat):
     """Rayleigh time t_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766) (s) of a sphere of radius R (m)."""
     return math.pi * R * math.sqrt(mat.rho / mat.G) / (0.1631 * mat.nu + 0.8766)

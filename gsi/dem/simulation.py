@@ -79,7 +79,8 @@ import numba
 import numpy as np
 
 from gsi.errors import GsiInputError, GsiRunError
-from gsi.dem.materials import Material, pair_table, rayleigh_time
+from gsi.dem.materials import (DT_DEFAULT, DT_LINEAR_DEFAULT, DT_LINEAR_REFUSE, DT_REFUSE,
+                               DT_WARN, Material, pair_table, rayleigh_time)
 from gsi.dem.engine_factory import get_engine
 from gsi.dem import neighbour as nbr
 from gsi.dem.walls import PlaneWall, MeshWall, triangle_edges, _vec3
@@ -115,6 +116,9 @@ class Simulation:
         Lower and upper corner of the domain box (m); particles leaving it are lost.
     force_dt : bool, default False
         Run even when the time-step checks refuse.
+    dt_checked : bool, default False
+        The caller applied gsi's time-step rule to every particle the run will hold
+        (``gsi.case.Case.time_step``): the simulation does not check it again.
     v_max : float, default 100.0
         Speed (m/s) above which a particle counts as blown up.
     lost : {"delete", "error"}
@@ -137,7 +141,7 @@ class Simulation:
     def __init__(self, materials, *, contact="hertz", rolling=False, heat=None, h_c=None,
                  k_n=None, gravity=(0.0, 0.0, -9.81), dt, skin, domain, force_dt=False,
                  v_max=100.0, lost="delete", pair_overrides=None, seed=None,
-                 parallel_min_n=2000, sort_particles=False):
+                 parallel_min_n=2000, sort_particles=False, dt_checked=False):
         if not materials:
             raise GsiInputError("materials = {}: give at least one Material")
         for name, m in materials.items():
@@ -198,6 +202,7 @@ class Simulation:
         self.inserters = []
         self._need_rebuild = True
         self._forces_valid = False
+        self._dt_rule_applied = bool(dt_checked)
         self._dt_checked = False
         self.n_rebuilds = 0
         self._heat_warned = False
@@ -480,12 +485,18 @@ class Simulation:
                                                      vertex_temperature=vertex_temperature))
 
     def _wall_moved(self):
+        """A mesh wall moved between steps (``set_vertices``): rebuild the candidate lists
+        if it moved more than half the skin. The forces of the last step are NOT evaluated
+        again: a force evaluation advances every tangential spring by its increment, so a
+        second one at the same time level would count that increment twice (and a coupled
+        structure's interval boundary would perturb every contact in the DEM). The moved
+        wall enters the next step's force pass: a lag of one DEM step, the staggered
+        scheme's own."""
         M = self.mesh_state
         if len(M.x):
             d2 = ((M.x - M.x0) ** 2).sum(1).max()
             if d2 > (0.5 * self.skin) ** 2:
                 self._need_rebuild = True
-        self._forces_valid = False
 
     # ------------------------------------------------------------------ inserters
     def add_inserter(self, region, rate, *, radius, material, velocity=(0.0, 0.0, 0.0),
@@ -507,29 +518,31 @@ class Simulation:
         return tR
 
     def _check_dt(self):
-        if self.n == 0 or self._dt_checked:
+        """The time-step rule of :mod:`gsi.dem.materials` (DT_* constants; the same rule as
+        ``gsi.case.Case.time_step``, which a runner applies first and then passes
+        ``dt_checked=True``): refuse above DT_REFUSE t_R (linear law: DT_LINEAR_REFUSE
+        t_c) unless ``force_dt``, warn above DT_WARN t_R (DT_LINEAR_DEFAULT t_c)."""
+        if self.n == 0 or self._dt_checked or self._dt_rule_applied:
             return
         self._dt_checked = True
         if self.contact == "linear":
-            t_c = math.pi * math.sqrt(0.5 * self.mass.min() / self.k_n)
-            if self.dt > t_c / 10:
-                msg = (f"dt = {self.dt}: above t_c/10 = {t_c / 10:.3g} s of the linear law "
-                       f"(t_c = pi sqrt(m*/k_n), m* = m_min/2); reduce dt or pass force_dt=True")
-                if not self.force_dt:
-                    raise GsiInputError(msg)
-                warnings.warn(msg)
-            elif self.dt > t_c / 50:
-                warnings.warn(f"dt = {self.dt} s is above t_c/50 = {t_c / 50:.3g} s of the linear law")
-            return
-        tR = self.rayleigh_time()
-        if self.dt > tR:
-            msg = (f"dt = {self.dt}: above the Rayleigh time t_R = {tR:.3g} s; use dt <= "
-                   f"{0.3 * tR:.3g} s or pass force_dt=True")
+            t_ref = math.pi * math.sqrt(0.5 * self.mass.min() / self.k_n)
+            name, default, warn, refuse = ("t_c = pi sqrt(m*/k_n) of the linear law",
+                                           DT_LINEAR_DEFAULT, DT_LINEAR_DEFAULT,
+                                           DT_LINEAR_REFUSE)
+        else:
+            t_ref = self.rayleigh_time()
+            name, default, warn, refuse = ("the Rayleigh time t_R", DT_DEFAULT, DT_WARN,
+                                           DT_REFUSE)
+        if self.dt > refuse * t_ref * (1 + 1e-12):
+            msg = (f"dt = {self.dt}: above {refuse:g} x {name} = {t_ref:.3g} s; use dt <= "
+                   f"{default * t_ref:.3g} s or pass force_dt=True")
             if not self.force_dt:
                 raise GsiInputError(msg)
             warnings.warn(msg)
-        elif self.dt > 0.3 * tR:
-            warnings.warn(f"dt = {self.dt} s is above 0.3 t_R = {0.3 * tR:.3g} s (Rayleigh time)")
+        elif self.dt > warn * t_ref * (1 + 1e-12):
+            warnings.warn(f"dt = {self.dt} s is above {warn:g} x {name} = {t_ref:.3g} s; "
+                          f"dt <= {default * t_ref:.3g} s is safe")
 
     def heat_stability(self):
         """max_i dt sum_j H_ij/(m_i c_p,i): the explicit heat update is stable below 1."""

@@ -12,9 +12,15 @@ DOM = ((0, 0, 0), (0.01, 0.01, 0.01))
 
 
 def test_dt_above_rayleigh_refused_unless_forced():
+    """gsi's one rule (gsi.dem.materials.DT_*): refused above 0.5 t_R unless forced."""
     sim = Simulation(MAT, dt=1e-3, skin=2e-4, domain=DOM)
     sim.add_particles([[0.005] * 3], 1e-3, material="m")
-    with pytest.raises(GsiInputError, match=r"dt = 0.001: above the Rayleigh time"):
+    with pytest.raises(GsiInputError, match=r"dt = 0.001: above 0.5 x the Rayleigh time t_R"):
+        sim.step(1)
+    sim = Simulation(MAT, dt=8e-5, skin=2e-4, domain=DOM)
+    sim.add_particles([[0.005] * 3], 1e-3, material="m")
+    assert 0.5 * sim.rayleigh_time() < 8e-5 < sim.rayleigh_time()
+    with pytest.raises(GsiInputError, match=r"use dt <= 2.4\de-05 s or pass force_dt=True"):
         sim.step(1)
     sim = Simulation(MAT, dt=1e-3, skin=2e-4, domain=DOM, force_dt=True, gravity=(0, 0, 0))
     sim.add_particles([[0.005] * 3], 1e-3, material="m")
@@ -26,14 +32,15 @@ def test_dt_warns_above_03_rayleigh():
     sim = Simulation(MAT, dt=4e-5, skin=2e-4, domain=DOM)
     sim.add_particles([[0.005] * 3], 1e-3, material="m")
     assert 0.3 * sim.rayleigh_time() < 4e-5 < sim.rayleigh_time()
-    with pytest.warns(UserWarning, match="0.3 t_R"):
+    assert 4e-5 < 0.5 * sim.rayleigh_time()
+    with pytest.warns(UserWarning, match="above 0.3 x the Rayleigh time"):
         sim.step(1)
 
 
 def test_linear_dt_rule():
     sim = Simulation(MAT, contact="linear", k_n=1e3, dt=1e-3, skin=2e-4, domain=DOM)
     sim.add_particles([[0.005] * 3], 1e-3, material="m")
-    with pytest.raises(GsiInputError, match="t_c/10"):
+    with pytest.raises(GsiInputError, match=r"above 0.1 x t_c = pi sqrt\(m\*/k_n\)"):
         sim.step(1)
 
 
