@@ -89,6 +89,12 @@ from gsi.dem.state import (MAX_WALL_SLOTS, PARTICLE_FIELDS, WALL_CONTACT_FIELDS,
                            empty_pairs, empty_planes, mesh_bundle)
 
 
+#: a step in which more than this fraction of the particles (and at least RUNAWAY_MIN)
+#: leave the domain stops the run: that is a blow-up, not an outflow
+RUNAWAY_FRACTION = 0.5
+RUNAWAY_MIN = 10
+
+
 class Simulation:
     """A DEM simulation (see the module docstring for the shape of the API).
 
@@ -704,7 +710,16 @@ class Simulation:
                     raise GsiRunError(
                         f"particle id {int(self.ids[i])} left the domain at step {self.step_count} "
                         f"(x = {self.x[i].tolist()}); enlarge domain or add walls")
-                self.n_lost += int(out.sum())
+                n_out = int(out.sum())
+                if n_out >= RUNAWAY_MIN and n_out > RUNAWAY_FRACTION * self.n:
+                    speed = float(np.linalg.norm(self.v[out], axis=1).max())
+                    raise GsiRunError(
+                        f"runaway loss at step {self.step_count}: {n_out} of {self.n} particles "
+                        f"left the domain in one step (fastest {speed:.3g} m/s); likely cause: "
+                        f"dt = {self.dt} s too large for the stiffness (Rayleigh time "
+                        f"{self.rayleigh_time():.3g} s), overlapping particles, or a missing "
+                        f"wall")
+                self.n_lost += n_out
                 self._delete(out)
                 skip = True
             elif code == 3:

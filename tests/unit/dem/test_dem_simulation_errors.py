@@ -102,3 +102,20 @@ def test_mesh_wall_from_stl(tmp_path):
     sim = Simulation(MAT, dt=1e-6, skin=2e-4, domain=DOM)
     w = sim.add_mesh_wall_file(tmp_path / "t.stl", material="m")
     np.testing.assert_allclose(w.vertices, pts, atol=1e-7)
+
+
+def test_runaway_loss_stops_the_run_with_a_diagnosis():
+    """Most particles leaving the domain in one step is a blow-up, not an outflow."""
+    sim = Simulation(MAT, dt=2e-6, skin=2e-4, domain=DOM, gravity=(0, 0, 0))
+    x = np.column_stack([np.full(12, 0.00995), np.linspace(0.001, 0.009, 12),
+                         np.full(12, 0.005)])
+    sim.add_particles(x, 1e-4, material="m", v=(50.0, 0.0, 0.0))
+    with pytest.raises(GsiRunError, match=r"runaway loss at step \d+: 12 of 12 particles left "
+                                          r"the domain in one step \(fastest 50 m/s\)"):
+        sim.step(5)
+    # a few particles leaving is an outflow: counted, the run goes on
+    sim = Simulation(MAT, dt=2e-6, skin=2e-4, domain=DOM, gravity=(0, 0, 0))
+    sim.add_particles(x[:3], 1e-4, material="m", v=(50.0, 0.0, 0.0))
+    sim.add_particles(x[3:] - [0.005, 0, 0], 1e-4, material="m")
+    sim.step(5)
+    assert sim.n_lost == 3 and sim.n == 9
