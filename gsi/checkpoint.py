@@ -76,19 +76,12 @@ def manifest_file(directory, step: int) -> pathlib.Path:
 
 def write_npz(path, arrays: dict) -> int:
     """Write ``arrays`` (name -> numpy array) as an uncompressed ``.npz`` atomically
-    (tmp + fsync + rename); returns its size in bytes."""
-    path = pathlib.Path(path)
-    tmp = path.with_name(f"{path.name}.tmp{os.getpid()}")
-    try:
-        with open(tmp, "wb") as fh:
-            np.savez(fh, **arrays)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path.stat().st_size
+    (:func:`write_atomic`: tmp + fsync + rename); returns its size in bytes."""
+    import io
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)
+    write_atomic(path, buf.getbuffer())
+    return pathlib.Path(path).stat().st_size
 
 
 def read_npz(path) -> dict:
