@@ -80,19 +80,6 @@ def dumps(prefix):
     return out
 
 
-def assert_same_state(a, b):
-    """Bitwise equality of two final-state dumps (all ranks), wall-clock columns aside."""
-    assert a.keys() == b.keys() and a
-    for rank in a:
-        x, y = a[rank], b[rank]
-        assert x.keys() == y.keys()
-        for k in x:
-            if k.endswith(TIMING):
-                continue
-            assert (x[k].dtype, x[k].shape) == (y[k].dtype, y[k].shape), (rank, k)
-            assert x[k].tobytes() == y[k].tobytes(), (rank, k)
-
-
 def assert_same_files(a, b):
     """Every output file of run ``a`` exists in ``b`` with the same bytes -- except: the
     wall-clock columns of the coupling CSV, summary.txt's wall times, the HDF5 files'
@@ -146,23 +133,35 @@ def assert_files_open(out):
         assert proc.returncode == 0, proc.stderr[-2000:]
 
 
-def assert_close_state(a, b, *, rtol=1e-7):
-    """Two final-state dumps agree as two repeats of one run under MPI do: integers exactly,
-    floats to ``rtol`` of each array's largest magnitude (the round-off balances
-    ``balance_*`` are round-off themselves and only compared in size)."""
+def _state_arrays(a, b):
+    """(rank, key, x, y) of two final-state dumps (all ranks), wall-clock columns aside;
+    the keys, dtypes and shapes must agree."""
     assert a.keys() == b.keys() and a
     for rank in a:
         x, y = a[rank], b[rank]
         assert x.keys() == y.keys()
         for k in x:
-            if k.endswith(TIMING):
-                continue
-            assert (x[k].dtype, x[k].shape) == (y[k].dtype, y[k].shape), (rank, k)
-            if x[k].dtype.kind != "f":
-                assert x[k].tobytes() == y[k].tobytes(), (rank, k)
-            elif "balance_" in k:
-                assert np.nanmax(np.abs(y[k]), initial=0.0) < 1e-11, (rank, k)
-            else:
-                scale = np.nanmax(np.abs(x[k]), initial=0.0)
-                assert np.allclose(x[k], y[k], rtol=0.0, atol=rtol * scale, equal_nan=True), \
-                    (rank, k, np.nanmax(np.abs(x[k] - y[k])), scale)
+            if not k.endswith(TIMING):
+                assert (x[k].dtype, x[k].shape) == (y[k].dtype, y[k].shape), (rank, k)
+                yield rank, k, x[k], y[k]
+
+
+def assert_same_state(a, b):
+    """Bitwise equality of two final-state dumps (all ranks), wall-clock columns aside."""
+    for rank, k, x, y in _state_arrays(a, b):
+        assert x.tobytes() == y.tobytes(), (rank, k)
+
+
+def assert_close_state(a, b, *, rtol=1e-7):
+    """Two final-state dumps agree as two repeats of one run under MPI do: integers exactly,
+    floats to ``rtol`` of each array's largest magnitude (the round-off balances
+    ``balance_*`` are round-off themselves and only compared in size)."""
+    for rank, k, x, y in _state_arrays(a, b):
+        if x.dtype.kind != "f":
+            assert x.tobytes() == y.tobytes(), (rank, k)
+        elif "balance_" in k:
+            assert np.nanmax(np.abs(y), initial=0.0) < 1e-11, (rank, k)
+        else:
+            scale = np.nanmax(np.abs(x), initial=0.0)
+            assert np.allclose(x, y, rtol=0.0, atol=rtol * scale, equal_nan=True), \
+                (rank, k, np.nanmax(np.abs(x - y)), scale)
