@@ -65,8 +65,6 @@ __all__ = ["Structure", "Load", "Convection", "FixedTemperature", "Flux", "Struc
 Vec3 = tuple[float, ...]
 SCHEMES = ("static", "newmark", "generalized_alpha")
 MODES = ("mechanical", "thermal", "both")
-#: relative tolerance of the iterative static solve behind the period estimate T_1
-PERIOD_RTOL = 1e-6
 
 
 def __getattr__(name):
@@ -495,10 +493,7 @@ class Structure:
         if self.has_elasticity:
             solve = dict(solver=self.solver, petsc_options=self.petsc,
                          options_key=f"{self.key}.petsc")
-            # the period estimate is a Rayleigh quotient, second order in the error of its
-            # trial shape: a loose iterative tolerance does (unless the problem is the run's)
-            loose = dict(rtol=PERIOD_RTOL) if self.scheme != "static" else {}
-            static = Elasticity(sm, mat, degree=self.degree, T_ref=T_ref, **solve, **loose)
+            static = Elasticity(sm, mat, degree=self.degree, T_ref=T_ref, **solve)
             for tag in self.supports:
                 static.clamp(tag)
             direction = g if np.any(g) else (0.0, 0.0, -1.0)

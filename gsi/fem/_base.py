@@ -14,7 +14,7 @@ scheme), so the expensive part of a solver is built once and re-used every step:
 
 * ``direct``: MUMPS LU (or Cholesky), factorized once (:class:`FactorOnceSolver`);
 * ``iterative``: conjugate gradients preconditioned by algebraic multigrid, the hierarchy
-  built once (:class:`IterativeSolver`): PETSc's GAMG with the six rigid-body modes as its
+  built once (:class:`IterativeSolver`), to ||b - A x|| <= 1e-12 ||b - A x_0||: PETSc's GAMG with the six rigid-body modes as its
   near-nullspace for elasticity (smoothed aggregation, Vanek, Mandel & Brezina 1996),
   hypre's BoomerAMG for heat (GAMG where PETSc has no hypre). Every solve starts from the
   last solution (warm start);
@@ -38,8 +38,8 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError, GsiRunError
 
 from . import compat
-from .options import (AUTO_ITERATIVE_DOFS, ITERATIVE_DEFAULTS, ITERATIVE_RTOL, SOLVERS,  # noqa: F401
-                      choose_solver, petsc_option_strings)
+from .options import (AUTO_ITERATIVE_DOFS, ITERATIVE_ATOL, ITERATIVE_DEFAULTS,  # noqa: F401
+                      ITERATIVE_RTOL, SOLVERS, choose_solver, petsc_option_strings)
 
 
 class VertexDofMap:
@@ -372,14 +372,17 @@ class IterativeSolver(LinearSolver):
     near_nullspace : PETSc.NullSpace, optional
         Near-nullspace of A for GAMG (elasticity: :func:`rigid_body_modes`).
     rtol : float
-        Relative tolerance of the true residual (``ksp_rtol`` overrides it).
+        Relative tolerance: the residual falls to ``rtol`` times the initial guess's
+        residual (``ksp_rtol`` overrides it).
 
     Notes
     -----
     The KSP gets its operator once and keeps the preconditioner
     (``PCSetReusePreconditioner``), so PETSc does not rebuild it when a solve follows;
     ``n_factorizations`` stays 1. A right-hand side of zero gives x = 0 without iterating
-    (a relative tolerance cannot be met there from a nonzero warm start).
+    (a relative tolerance cannot be met there from a nonzero warm start). Besides the
+    relative tolerance, a solve stops at ||b - A x|| <= ITERATIVE_ATOL ||b|| (round-off
+    level; ``ksp_atol`` replaces it).
     """
 
     kind = "iterative"
@@ -409,9 +412,13 @@ class IterativeSolver(LinearSolver):
         ksp.getPC().setType(self.defaults["pc_type"])
 
     def _solve(self, b, x) -> tuple[int, int]:
-        if b.norm(PETSc.NormType.NORM_INFINITY) == 0.0:
+        bnorm = b.norm()
+        if bnorm == 0.0:
             x.set(0.0)
             return 1, 0
+        if "ksp_atol" not in self.user_options:
+            # a floor near round-off: a warm start that already solves the system is kept
+            self.ksp.setTolerances(atol=ITERATIVE_ATOL * bnorm)
         return super()._solve(b, x)
 
     def _failure(self, reason: int) -> str:

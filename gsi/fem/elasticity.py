@@ -117,7 +117,7 @@ class Elasticity:
         PETSc options without the leading dash (e.g. ``{"ksp_rtol": 1e-12}``), applied
         under this problem's own options prefix; they override gsi's defaults.
     rtol : float, optional
-        Relative tolerance of the iterative solver's true residual (default
+        Iterative solver: the residual falls to rtol times that of the warm start (default
         ``gsi.fem.options.ITERATIVE_RTOL``; ``ksp_rtol`` in ``petsc_options`` overrides it).
     options_key : str
         TOML key of ``petsc_options`` named by errors (e.g. ``structures[0].petsc``).

@@ -91,7 +91,7 @@ class Heat:
     petsc_options : dict, optional
         PETSc options without the leading dash, under this problem's own prefix.
     rtol : float, optional
-        Relative tolerance of the iterative solver's true residual (default
+        Iterative solver: the residual falls to rtol times that of the warm start (default
         ``gsi.fem.options.ITERATIVE_RTOL``; ``ksp_rtol`` in ``petsc_options`` overrides it).
     options_key : str
         TOML key of ``petsc_options`` named by errors.

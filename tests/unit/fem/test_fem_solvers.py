@@ -1,8 +1,8 @@
 """Linear solver choice: direct (MUMPS, factorized once) against iterative (CG + algebraic
 multigrid, built once, warm-started), the "auto" rule, and PETSc pass-through options.
 
-The iterative solver stops at ||b - A x|| <= 1e-10 ||b|| (gsi.fem.options.ITERATIVE_RTOL);
-its answers agree with the direct solver's to about that tolerance times the conditioning
+The iterative solver stops at ||b - A x|| <= 1e-12 ||b - A x_0||, x_0 the last solution
+(gsi.fem.options.ITERATIVE_RTOL); its answers agree with the direct solver's to about that tolerance times the conditioning
 of these small problems, asserted here at 1e-8 of the largest value.
 """
 import numpy as np
@@ -97,10 +97,13 @@ def test_iterative_builds_its_preconditioner_once_and_warm_starts(slab):
     assert p.n_factorizations == 1
     assert p._solver.describe() == "cg + gamg"
     assert p._solver.ksp.getInitialGuessNonzero()
-    # a second static solve of the same problem starts at the solution: (almost) no work
+    # a second static solve of the same problem starts at the solution: it stays there,
+    # with less work (down to the round-off floor ITERATIVE_ATOL ||b|| only)
     s = _static(slab, "iterative")
+    u1 = s.u.x.array.copy()
     s.solve()
-    assert s.iterations[1] <= s.iterations[0] // 4
+    assert s.iterations[1] < s.iterations[0]
+    assert np.abs(s.u.x.array - u1).max() <= 1e-12 * np.abs(u1).max()
 
 
 def test_zero_load_gives_zero_without_iterating(slab):

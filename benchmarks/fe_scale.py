@@ -1,0 +1,287 @@
+"""Benchmark: the FE problems at 10^4 to 10^6 dofs, direct against iterative, 1 against N ranks.
+
+The structure is the ``shell`` builder's silo (radius 0.5 m, cylinder 1 m on a 0.4 m
+conical hopper, steel wall 10 mm thick, ``--n-thickness`` P2 element layers through it,
+held at the outlet rim), sized by its element size h so that each problem has the wanted
+number of dofs (:func:`meshes.shell.h_for_dofs`; the heat problem, a scalar, gets its own
+finer mesh). At ``--sizes`` sizes from ``--min-dofs`` to ``--max-dofs`` (geometric):
+
+* ``static``: K u = f under self-weight and nodal loads on the contact surface (given on
+  rank 0, as the coupling gives them): the first solve from u = 0, then ``--steps``
+  solves with changed loads (the quasi-static coupling's pattern: a warm start);
+* ``dynamic``: generalized-alpha steps (rho_inf = 0.3, gsi's structure default) of
+  dt = 1.25e-4 s (T_1 / 20 of this silo, the coupling's choice) under self-weight and
+  nodal loads that change every step;
+* ``heat``: backward-Euler (theta = 1) steps of 1 s with a fixed temperature at the
+  support, convection outside and nodal heat on the contact surface.
+
+For each: ``setup_s`` (assembly and the factorization or the multigrid hierarchy;
+FFCx compilation excluded by a warm-up), ``first_s`` (first solve), ``step_s`` (mean
+per-step wall time of the following steps, all ranks), Krylov iterations per solve,
+and the peak memory per rank (getrusage ru_maxrss, its high-water mark reset before each
+case through /proc/self/clear_refs, glibc told to give freed memory back), summed (``peak_gb``) and largest (``rank_gb``) over
+the ranks. The last line is machine-readable key=value: ``max_dofs`` (largest dynamic
+case), ``ranks``, ``solver``, ``step_s_at_max`` (its dynamic step), ``peak_mem_gb`` (the
+largest total over every case run), ``exponent`` (least-squares slope of log dynamic
+step time against log dofs, iterative solver if it ran), the same slopes of the static
+re-solve and the heat step, the iterations at the largest size and the load average
+(``uptime``) at the start and the end.
+
+The direct solver is skipped above ``--direct-max-dofs`` (its memory grows faster than the
+dofs; 3.4 GB on one rank at 1.6e5 dofs here), the static problem above
+``--static-max-dofs`` (from u = 0 the iterative solver needs ~2000 CG iterations on this
+thin wall: half an hour per solve at 1.6e5 dofs).
+
+Run::
+
+    mpirun -n 1 python benchmarks/fe_scale.py --solver both --max-dofs 3e5
+    mpirun -n 2 python benchmarks/fe_scale.py --solver iterative --max-dofs 1e6
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from mpi4py import MPI
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
+
+import meshes  # noqa: E402
+from gsi.fem.elasticity import Elasticity  # noqa: E402
+from gsi.fem.heat import Heat  # noqa: E402
+from gsi.fem.surface import ContactSurface  # noqa: E402
+from meshes import shell  # noqa: E402
+
+DT_DYNAMIC = 1.25e-4     # s, T_1 / 20 of the default shell (T_1 = 2.5 ms)
+DT_HEAT = 1.0            # s
+
+
+def load_average() -> float:
+    """1-minute load average of the machine (as ``uptime`` prints it)."""
+    return os.getloadavg()[0]
+
+
+def release_freed_memory() -> None:
+    """Make glibc return large freed blocks to the system at once (a fixed mmap threshold
+    of 64 kB: glibc otherwise raises it after the first large frees and keeps the memory),
+    so that each case's peak is its own and not the heap left by the cases before it."""
+    try:
+        import ctypes
+        libc = ctypes.CDLL("libc.so.6")
+        libc.mallopt(-3, 65536)          # M_MMAP_THRESHOLD
+        libc.mallopt(-1, 65536)          # M_TRIM_THRESHOLD
+    except (OSError, AttributeError):
+        pass
+
+
+def reset_peak_memory() -> None:
+    """Reset this process's resident-set high-water mark (Linux >= 4.0), so that the next
+    ru_maxrss is the peak of what follows."""
+    try:
+        with open("/proc/self/clear_refs", "w") as fh:
+            fh.write("5")
+    except OSError:
+        pass
+
+
+def peak_memory(comm) -> tuple[float, float]:
+    """(sum over ranks, largest rank) of ru_maxrss (GB)."""
+    gb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6   # kB on Linux
+    return comm.allreduce(gb, op=MPI.SUM), comm.allreduce(gb, op=MPI.MAX)
+
+
+def _surface_loads(s, k: int) -> np.ndarray:
+    """Nodal loads on the contact surface (N), changing a little with the step k as the
+    particles' loads do between two coupling steps (rank 0 only)."""
+    x = s.x0
+    return np.c_[0.2 * np.sin(6.0 * x[:, 2] + 0.1 * k), 0.2 * np.cos(5.0 * x[:, 0] - 0.1 * k),
+                 -1.0 - 0.02 * k - x[:, 1] ** 2]
+
+
+def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> dict:
+    comm = MPI.COMM_WORLD
+    kw = dict(dt=DT_DYNAMIC, rho_inf=0.3) if scheme != "static" else {}
+    reset_peak_memory()
+    comm.barrier()
+    p = Elasticity(sm, "steel", degree=2, scheme=scheme, gravity=(0.0, 0.0, -9.81),
+                   solver=solver, petsc_options=petsc, **kw)
+    p.clamp("support")
+    s = ContactSurface(elasticity=p)
+    advance = p.solve if scheme == "static" else p.step
+    comm.barrier()
+    t0 = time.perf_counter()
+    p._setup()
+    comm.barrier()
+    t_setup = time.perf_counter() - t0
+    times = []
+    for k in range(n_steps + 1):
+        p.clear_nodal_loads()
+        s.add_nodal_loads(_surface_loads(s, k) if comm.rank == 0 else None)
+        comm.barrier()
+        t0 = time.perf_counter()
+        advance()
+        comm.barrier()
+        times.append(time.perf_counter() - t0)
+    peak, rank_peak = peak_memory(comm)
+    its = p.iterations
+    out = dict(problem="static" if scheme == "static" else "dynamic", solver=p.solver_kind,
+               dofs=p.n_dofs, setup_s=t_setup, first_s=times[0],
+               step_s=float(np.mean(times[1:])), its_first=its[0],
+               its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak,
+               surface_vertices=s.n_vertices, umax=p.max_displacement())
+    p._solver.destroy()
+    return out
+
+
+def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
+    comm = MPI.COMM_WORLD
+    reset_peak_memory()
+    comm.barrier()
+    h = Heat(sm, "steel", dt=DT_HEAT, theta=1.0, T_initial=20.0, degree=2, solver=solver,
+             petsc_options=petsc)
+    h.fix_temperature("support", 20.0)
+    h.set_convection("outer", 10.0, 20.0)
+    s = ContactSurface(heat=h)
+    comm.barrier()
+    t0 = time.perf_counter()
+    h._setup()
+    comm.barrier()
+    t_setup = time.perf_counter() - t0
+    times = []
+    for k in range(n_steps + 1):
+        h.clear_nodal_heat()
+        if comm.rank == 0:
+            q = np.full(s.n_vertices, 1.0 + 0.1 * k)
+        s.add_nodal_heat(q if comm.rank == 0 else None)
+        comm.barrier()
+        t0 = time.perf_counter()
+        h.step()
+        comm.barrier()
+        times.append(time.perf_counter() - t0)
+    peak, rank_peak = peak_memory(comm)
+    its = h.iterations
+    out = dict(problem="heat", solver=h.solver_kind, dofs=h.n_dofs, setup_s=t_setup,
+               first_s=times[0], step_s=float(np.mean(times[1:])), its_first=its[0],
+               its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak,
+               surface_vertices=s.n_vertices, Tmax=h.min_max()[1])
+    h._solver.destroy()
+    return out
+
+
+def build(target: float, *, n_thickness: int, components: int) -> tuple[object, float, float]:
+    """(mesh, h, build seconds) of the shell with about ``target`` dofs."""
+    comm = MPI.COMM_WORLD
+    h = shell.h_for_dofs(target, n_thickness=n_thickness, components=components)
+    comm.barrier()
+    t0 = time.perf_counter()
+    sm = meshes.build("shell", h=h, n_thickness=n_thickness)
+    comm.barrier()
+    return sm, h, time.perf_counter() - t0
+
+
+def slope(dofs, times) -> float:
+    """Least-squares slope of log(times) against log(dofs) (nan below two points)."""
+    if len(dofs) < 2:
+        return float("nan")
+    return float(np.polyfit(np.log(dofs), np.log(times), 1)[0])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--max-dofs", type=float, default=1e6, help="largest size (dofs)")
+    ap.add_argument("--min-dofs", type=float, default=1e4, help="smallest size (dofs)")
+    ap.add_argument("--sizes", type=int, default=6, help="number of sizes (geometric)")
+    ap.add_argument("--solver", choices=["direct", "iterative", "both"], default="both")
+    ap.add_argument("--problems", default="static,dynamic,heat",
+                    help="comma-separated subset of static,dynamic,heat")
+    ap.add_argument("--steps", type=int, default=2, help="timed steps after the first solve")
+    ap.add_argument("--n-thickness", type=int, default=1, help="P2 element layers in the wall")
+    ap.add_argument("--direct-max-dofs", type=float, default=4e5,
+                    help="skip the direct solver above this size (memory)")
+    ap.add_argument("--static-max-dofs", type=float, default=2e5,
+                    help="skip the static problem above this size (iterative: 10^3 iterations)")
+    ap.add_argument("--petsc", default="{}", help="JSON dict of PETSc options (iterative)")
+    ap.add_argument("--json", default=None, help="write every record to this JSON file")
+    args = ap.parse_args()
+    release_freed_memory()
+    comm = MPI.COMM_WORLD
+    problems = [p for p in args.problems.split(",") if p]
+    solvers = ["direct", "iterative"] if args.solver == "both" else [args.solver]
+    petsc = json.loads(args.petsc)
+    load0 = load_average()
+    targets = np.geomspace(args.min_dofs, args.max_dofs, args.sizes)
+    # warm-up: FFCx compilation of every form, outside the timings
+    sm, _, _ = build(3e3, n_thickness=args.n_thickness, components=3)
+    for solver in solvers:
+        run_elasticity(sm, "static", solver, 1, {})
+        run_elasticity(sm, "generalized_alpha", solver, 1, {})
+        run_heat(sm, solver, 1, {})
+    del sm
+    records = []
+
+    def report(r):
+        records.append(r)
+        if comm.rank == 0:
+            print(f"{r['problem']:8s} {r['solver']:9s} dofs={r['dofs']:8d} h={r['h']:.4g} "
+                  f"mesh={r['mesh_s']:.1f}s setup={r['setup_s']:.2f}s first={r['first_s']:.2f}s "
+                  f"step={r['step_s']:.3f}s its={r['its_first']}/{r['its_step']:.0f} "
+                  f"peak={r['peak_gb']:.2f}GB (rank max {r['rank_gb']:.2f}) "
+                  f"surface_vertices={r['surface_vertices']} load={load_average():.1f}",
+                  flush=True)
+
+    for target in targets:
+        if {"static", "dynamic"} & set(problems):
+            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=3)
+            for solver in solvers:
+                if solver == "direct" and target > args.direct_max_dofs:
+                    continue
+                opts = petsc if solver == "iterative" else {}
+                for prob, scheme in (("static", "static"), ("dynamic", "generalized_alpha")):
+                    if prob == "static" and target > args.static_max_dofs:
+                        continue
+                    if prob in problems:
+                        r = run_elasticity(sm, scheme, solver, args.steps, opts)
+                        report(dict(r, h=h, mesh_s=t_mesh, ranks=comm.size))
+            del sm
+        if "heat" in problems:
+            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=1)
+            for solver in solvers:
+                if solver == "direct" and target > args.direct_max_dofs:
+                    continue
+                r = run_heat(sm, solver, args.steps, petsc if solver == "iterative" else {})
+                report(dict(r, h=h, mesh_s=t_mesh, ranks=comm.size))
+            del sm
+    if comm.rank != 0:
+        return
+    if args.json:
+        Path(args.json).write_text(json.dumps(records, indent=1))
+    main_solver = "iterative" if "iterative" in solvers else "direct"
+
+    def pick(prob, solver):
+        rs = [r for r in records if r["problem"] == prob and r["solver"] == solver]
+        return [r["dofs"] for r in rs], [r["step_s"] for r in rs], rs
+
+    kv = [f"ranks={comm.size}", f"solver={main_solver}"]
+    dofs, steps, rs = pick("dynamic", main_solver)
+    if rs:
+        kv += [f"max_dofs={dofs[-1]}", f"step_s_at_max={steps[-1]:.4g}",
+               f"its_at_max={rs[-1]['its_step']:.0f}", f"setup_s_at_max={rs[-1]['setup_s']:.4g}"]
+    kv += [f"peak_mem_gb={max(r['peak_gb'] for r in records):.3g}",
+           f"exponent={slope(dofs, steps):.3f}"]
+    for prob in ("static", "heat"):
+        d, t, rs = pick(prob, main_solver)
+        if rs:
+            kv += [f"exponent_{prob}={slope(d, t):.3f}", f"{prob}_dofs_at_max={d[-1]}",
+                   f"{prob}_step_s_at_max={t[-1]:.4g}"]
+    kv += [f"load_start={load0:.2f}", f"load_end={load_average():.2f}"]
+    print(" ".join(kv), flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,57 @@
+"""The same structure on 1 and 2 MPI ranks with each linear solver
+(tests/mpi/fem_solver_mpi_case.py): static, dynamic (generalized-alpha) and heat.
+
+The direct solver's answers differ between partitions by round-off; the iterative
+solver's by its tolerance (||b - A x|| <= 1e-12 ||b - A x_0||, x_0 the last solution): the multigrid hierarchy, and so the
+iterates, depend on the partition. Both are held to 1e-8 of the largest value.
+
+Fast: a small thick disc, iterative solver (the direct one on 1 and 2 ranks is
+tests/mpi/test_fem_mpi.py). Slow (-m slow): the silo shell of meshes.shell at about
+1.2e5 dofs with both solvers.
+"""
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+HERE = Path(__file__).resolve().parent
+_spec = importlib.util.spec_from_file_location("gsi_tests_mpirun", HERE / "mpirun.py")
+mpirun = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(mpirun)
+
+pytestmark = pytest.mark.mpi
+
+TOL = 1e-8
+
+
+def _pair(tmp, solver, mesh, *extra, timeout=300):
+    return [mpirun.run_json(HERE / "fem_solver_mpi_case.py", n, tmp / f"{solver}_{mesh}_{n}.json",
+                            args=(solver, mesh, *extra), timeout=timeout) for n in (1, 2)]
+
+
+def _check_agree(r1, r2, kind):
+    assert (r1["n_ranks"], r2["n_ranks"]) == (1, 2)
+    assert r1["solver_kinds"] == r2["solver_kinds"] == [kind] * 3
+    for key in ("static_norm", "dynamic_norm", "heat_norm"):
+        assert r2[key] == pytest.approx(r1[key], rel=TOL), key
+        assert r1[key] > 0
+    for key in ("static_surface_u", "dynamic_surface_u", "surface_T", "static_reaction"):
+        a, b = np.array(r1[key]), np.array(r2[key])
+        assert np.abs(b - a).max() <= TOL * np.abs(a).max(), key
+    for r in (r1, r2):
+        assert r["dynamic_setups"] == r["heat_setups"] == 1
+
+
+def test_iterative_solver_same_on_1_and_2_ranks(tmp_path):
+    r1, r2 = _pair(tmp_path, "iterative", "slab")
+    _check_agree(r1, r2, "iterative")
+    assert min(r1["dynamic_its"] + r2["dynamic_its"]) > 1
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("solver", ["direct", "iterative"])
+def test_shell_same_on_1_and_2_ranks(tmp_path, solver):
+    r1, r2 = _pair(tmp_path, solver, "shell", 0.04, timeout=3600)
+    assert r1["n_dofs"] > 1e5
+    _check_agree(r1, r2, solver)
