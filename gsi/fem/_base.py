@@ -14,10 +14,11 @@ scheme), so the expensive part of a solver is built once and re-used every step:
 
 * ``direct``: MUMPS LU (or Cholesky), factorized once (:class:`FactorOnceSolver`);
 * ``iterative``: conjugate gradients preconditioned by algebraic multigrid, the hierarchy
-  built once (:class:`IterativeSolver`), to ||b - A x|| <= 1e-12 ||b - A x_0||: PETSc's GAMG with the six rigid-body modes as its
+  built once (:class:`IterativeSolver`): PETSc's GAMG with the six rigid-body modes as its
   near-nullspace for elasticity (smoothed aggregation, Vanek, Mandel & Brezina 1996),
   hypre's BoomerAMG for heat (GAMG where PETSc has no hypre). Every solve starts from the
-  last solution (warm start);
+  last solution x_0 (warm start) and stops at ||b - A x|| <= 1e-12 ||b - A x_0||
+  (:data:`gsi.fem.options.ITERATIVE_RTOL`);
 * ``auto``: iterative from :data:`AUTO_ITERATIVE_DOFS` global dofs on, else direct.
 
 ``petsc_options`` (TOML ``[structures.petsc]``) are PETSc options without the leading
@@ -267,8 +268,8 @@ class LinearSolver:
         unused = []
         for k in self.user_options:
             used = compat.petsc_option_used(self.prefix + k)
-            if used is None:
-                return
+            if used is None:               # PETSc's library not found: nothing to check
+                break
             if not self.comm.allreduce(bool(used), op=MPI.LOR):
                 unused.append(k)
         self._clear_options()
