@@ -123,6 +123,12 @@ class Heat:
         self.t = 0.0
         self.n_steps = 0
         self._solver: FactorOnceSolver | None = None
+        #: the :class:`gsi.fem.contact_heat.ContactHeatSystem` that steps this body (None:
+        #: it steps alone)
+        self.contact_system = None
+        #: heat (W) the FE-FE contacts put into each owned dof over the last step
+        #: (theta-weighted; set by the contact system, zero otherwise)
+        self.contact_heat = np.zeros(compat.dof_index_map(self.V)[0].size_local)
 
     # ------------------------------------------------------------------ set-up API
     def _check_not_set_up(self, what):
@@ -306,6 +312,19 @@ class Heat:
 
     def step(self):
         """Advance one step dt; returns the temperature Function."""
+        if self.contact_system is not None:
+            raise RuntimeError("Heat.step: this body is in a contact group; step the group "
+                               "(ContactHeatSystem.step)")
+        b = self.begin_step()
+        self._solver.solve(b, compat.petsc_vec(self.T))
+        self.end_step()
+        return self.T
+
+    def begin_step(self) -> PETSc.Vec:
+        """The right-hand side of the step from T_n, (C/dt - (1 - theta) K) T_n + F with
+        the Dirichlet values set (a vector owned by this object, valid until the next
+        call); T_old takes T_n. :meth:`step` is ``begin_step``, a solve with
+        :meth:`system_matrix` into T, :meth:`end_step`."""
         self._setup()
         theta, dt = self.theta, self.dt
         Tn = compat.petsc_vec(self.T)
@@ -320,11 +339,40 @@ class Heat:
             b.axpy(-(1.0 - theta), tmp)
         b.axpy(1.0, self._lift)
         compat.set_bc(b, self.bcs)
-        self._solver.solve(b, Tn)
+        return b
+
+    def end_step(self, T_new=None) -> None:
+        """Finish the step: T takes ``T_new`` (owned dofs; default: T as solved in place),
+        the ghosts are updated, t and the step count advance."""
+        if T_new is not None:
+            self.T.x.array[:len(T_new)] = T_new
         compat.scatter_forward(self.T)
-        self.t += dt
+        self.t += self.dt
         self.n_steps += 1
-        return self.T
+
+    def system_matrix(self) -> PETSc.Mat:
+        """The step matrix C/dt + theta K with the Dirichlet rows and columns replaced by
+        the identity (assembled once)."""
+        self._setup()
+        return self._A
+
+    def bc_dofs(self) -> np.ndarray:
+        """Owned dofs with a fixed temperature (local indices)."""
+        return np.unique(np.concatenate([np.zeros(0, np.int32)]
+                                        + list(self._bc_dofs_by_tag.values()))).astype(np.int64)
+
+    def capacity_row_sums(self) -> np.ndarray:
+        """Row sums of the capacity matrix C at the owned dofs, int rho c N_i dx (J/K)."""
+        self._setup()
+        ones, out = self._C.createVecRight(), self._C.createVecLeft()
+        ones.set(1.0)
+        self._C.mult(ones, out)
+        return out.array.copy()
+
+    def heat_capacity(self) -> float:
+        """Heat capacity of the body, int rho c dx (J/K) (collective)."""
+        m = self.material
+        return m.rho * m.c * self.volume()
 
     # ------------------------------------------------------------------ state
     def state(self) -> dict:
@@ -365,6 +413,7 @@ class Heat:
         res += tmp.array
         self._assemble_load(self._F)
         res -= self._F.array
+        res[:self.contact_heat.size] -= self.contact_heat
         return self.comm.allreduce(float(res[dofs].sum()), op=MPI.SUM)
 
     def heat_flow(self, tag: str) -> float:
