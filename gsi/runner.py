@@ -113,7 +113,8 @@ def build_simulation(case, *, dt: float):
     sim = Simulation(
         materials=case.dem_materials(), contact=case.dem.contact, k_n=case.dem.k_n,
         rolling=case.dem.rolling, heat=None if case.dem.heat == "none" else case.dem.heat,
-        h_c=case.dem.h_c, gravity=case.dem.gravity, dt=dt,
+        h_c=case.dem.h_c, pipe_length=case.dem.pipe_length,
+        pipe_resistance=case.dem.pipe_resistance, gravity=case.dem.gravity, dt=dt,
         skin=case.dem.skin if case.dem.skin is not None else 0.4 * r_min,
         domain=(case.dem.domain_lo, case.dem.domain_hi), force_dt=case.dem.force_dt,
         pair_overrides=case.pair_overrides(), seed=case.run.seed, dt_checked=True)
