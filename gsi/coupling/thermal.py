@@ -37,7 +37,8 @@ Energy record, per coupling step (``CouplingStep``; also ``energy.csv``):
   owned dofs of all ranks), ``balance_error`` = Q_structure - Q_particles (round-off);
 * ``Q_boundary_loss`` heat leaving the structure through its boundary over the step (J):
   convection/flux tags theta-weighted exactly as the theta-scheme applies them, plus the
-  Dirichlet residual flow on fixed-temperature tags;
+  Dirichlet residual flow on fixed-temperature tags, plus the radiation of radiating tags
+  (explicit, at T_n, as the step applies it);
 * ``E_particles`` = sum m c_p (T - T_ref), ``E_structure`` = int rho c (T - T_ref) dx (J);
 * ``Q_contact`` heat entering the structure over the step through its FE-FE thermal
   contacts with other structures (J; :mod:`gsi.fem.contact_heat`, 0 without);
@@ -350,6 +351,7 @@ class ThermalCoupling(RecordLog):
         inflow_new = self._boundary_inflow(theta_tags) if theta_tags else 0.0
         inflow = heat.theta * inflow_new + (1.0 - heat.theta) * pending["inflow_old"]
         inflow += self._boundary_inflow(dir_tags) if dir_tags else 0.0
+        inflow += sum(heat.radiation_heat_flow(n) for n in heat.radiation)
         Q_loss = -inflow * self.dt
         vm = disp = math.nan
         if el is not None:
