@@ -12,7 +12,6 @@ References:
   other faces insulated: k (T_h - T_s)/L = eps sigma (T_s^4 - T_amb^4) (root by brentq);
 * energy: the stored heat changes by exactly the radiated heat the steps applied.
 """
-import math
 
 import numpy as np
 import pytest

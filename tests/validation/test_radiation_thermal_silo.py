@@ -14,7 +14,6 @@ energies, physical / 200); bed -> wall heat 26.22 -> 26.28 J (+0.23 %); heat flo
 the wall at the end 128 -> 127 W; wall mean 307.42 -> 307.39 K. At these wall
 temperatures (~310 K) radiation adds h_rad = 4 eps sigma T^3 ~ 5 W/(m^2 K) to h = 25.
 """
-import math
 import pathlib
 import tomllib
 
