@@ -113,7 +113,8 @@ def build_simulation(case, *, dt: float):
     sim = Simulation(
         materials=case.dem_materials(), contact=case.dem.contact, k_n=case.dem.k_n,
         rolling=case.dem.rolling, heat=None if case.dem.heat == "none" else case.dem.heat,
-        h_c=case.dem.h_c, gravity=case.dem.gravity, dt=dt,
+        h_c=case.dem.h_c, pipe_length=case.dem.pipe_length,
+        pipe_resistance=case.dem.pipe_resistance, gravity=case.dem.gravity, dt=dt,
         skin=case.dem.skin if case.dem.skin is not None else 0.4 * r_min,
         domain=(case.dem.domain_lo, case.dem.domain_hi), force_dt=case.dem.force_dt,
         pair_overrides=case.pair_overrides(), seed=case.run.seed, dt_checked=True)
@@ -192,6 +193,7 @@ class Runner:
         self._handles = {}
         self._groups = {}
         self.structures = []
+        self.contact_groups = []
         self._files = []
         self.resume = bool(resume)
         if checkpoint_every is not None and not (checkpoint_every >= 0
@@ -251,6 +253,9 @@ class Runner:
                              root=self.root)
             built.attach(self.sim)
             self.structures.append(built)
+        from gsi.case.thermal_contacts import build_contact_groups
+        self.contact_groups = build_contact_groups(
+            case.thermal_contacts, {st.name: st for st in self.structures})
         if self.structures:
             # whole coupling intervals of every structure (an FE step has a fixed dt)
             L = math.lcm(*(st.n_sub for st in self.structures))
@@ -503,11 +508,7 @@ class Runner:
                     raise err
                 k = nxt
                 t = k * self.dt
-                for st in self.structures:
-                    if k % st.n_sub == 0:
-                        st.finish()
-                        if k < self.n_total:
-                            st.begin()
+                self._finish_structures(k)
                 for w, t_event in self.motion_events.get(k, []):
                     if self.is_root:
                         w.apply_motion(self._handles[w.name], t_event)
@@ -529,6 +530,26 @@ class Runner:
             for st in self.structures:
                 st.close()
         return self._finish(wall0)
+
+    def _finish_structures(self, k: int) -> None:
+        """End the coupling interval of every structure due at step ``k`` and open the
+        next. Structures in an FE-FE thermal contact group take their loads first, the
+        group steps their heat as one system, then they record."""
+        due = [st for st in self.structures if k % st.n_sub == 0]
+        grouped = [st for st in due if st.contact_group is not None]
+        for st in due:
+            if st.contact_group is None:
+                st.finish()
+            else:
+                st.load_heat()
+        for group in self.contact_groups:
+            if any(st.contact_group is group for st in grouped):
+                group.step()
+        for st in grouped:
+            st.record()
+        if k < self.n_total:
+            for st in due:
+                st.begin()
 
     # ------------------------------------------------------------------ checkpoints
     def _maybe_checkpoint(self, k: int, n_out: int) -> None:

@@ -10,6 +10,7 @@ A case file is a set of TOML tables, each of which is one object of this package
     [[particles]]     ParticleSource  fills, streams, particles from a file
     [[walls]]         Wall            planes, mesh files, built shapes; each with a Motion
     [[structures]]    Structure       FE bodies (builder or the user's .geo/.msh), coupled
+    [[thermal_contacts]] ThermalContact heat across the overlap of two structures (R_c)
     [[monitors]]      Monitor         time series to CSV
     [output]          Output          interval, fields, pictures
     [quick]           (overrides)     keys that replace the case's own with ``--quick``
@@ -60,6 +61,7 @@ from gsi.case.monitors import Monitor
 from gsi.case.settings import CaseInfo, Dem, Output, Run
 from gsi.case.sources import ParticleSource
 from gsi.case.structure import Structure
+from gsi.case.thermal_contacts import ThermalContact
 from gsi.case.walls import Wall
 from gsi.config.schema import load, param
 from gsi.errors import GsiInputError
@@ -95,6 +97,8 @@ class Case:
     particles: list[ParticleSource] = param(default_factory=list, doc="[[particles]] tables")
     walls: list[Wall] = param(default_factory=list, doc="[[walls]] tables")
     structures: list[Structure] = param(default_factory=list, doc="[[structures]] tables")
+    thermal_contacts: list[ThermalContact] = param(default_factory=list,
+                                                   doc="[[thermal_contacts]] tables")
     monitors: list[Monitor] = param(default_factory=list, doc="[[monitors]] tables")
     output: Output = param(doc="the [output] table")
     quick: dict[str, Any] = param(default_factory=dict,
@@ -257,6 +261,9 @@ class Case:
                 raise GsiInputError(f"structures[{i}].contact.mode = {st.contact.mode!r}: a "
                                     f"thermal contact needs dem.heat = 'area', 'radius' or "
                                     f"'constant'")
+        by_name = {st.name: st for st in self.structures}
+        for i, c in enumerate(self.thermal_contacts):
+            c.check(f"thermal_contacts[{i}]", structures=by_name)
         for i, m in enumerate(self.monitors):
             m.check(f"monitors[{i}]", walls=set(self.wall_names()),
                     structures=set(self.structure_names()), groups=set(self.group_names()),

@@ -11,7 +11,7 @@ from gsi.errors import GsiInputError
 __all__ = ["CaseInfo", "Run", "Dem", "Output", "CONTACT_LAWS", "HEAT_MODELS"]
 
 CONTACT_LAWS = ("hertz", "linear")
-HEAT_MODELS = ("none", "area", "radius", "constant")
+HEAT_MODELS = ("none", "area", "radius", "constant", "pipe")
 #: a case name is used in file names: letters, digits, '_', '-', '.' (no path separators)
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
 
@@ -63,6 +63,11 @@ class Dem:
     heat: str = param("none", check=one_of(*HEAT_MODELS), doc="particle conduction model")
     h_c: Optional[float] = param(None, unit="W/K", check=positive(),
                                  doc="conductance of the 'constant' heat model")
+    pipe_length: Optional[float] = param(None, unit="m", check=positive(),
+                                         doc="pipe length w of the 'pipe' heat model (Feng's "
+                                             "pipe network, a 2D model: the slab thickness)")
+    pipe_resistance: float = param(0.0, unit="K m/W", check=nonnegative(),
+                                   doc="contact resistance per length R_c* of the 'pipe' model")
     skin: Optional[float] = param(None, unit="m", check=positive(),
                                   doc="Verlet skin (default 0.4 x the smallest radius)")
     gravity: tuple[float, ...] = param((0.0, 0.0, -9.81), unit="m/s^2", length=3,
@@ -81,6 +86,9 @@ class Dem:
         if self.heat == "constant" and self.h_c is None:
             raise GsiInputError(f"{path}.h_c: missing; the constant heat model needs a "
                                 f"conductance (W/K)")
+        if self.heat == "pipe" and self.pipe_length is None:
+            raise GsiInputError(f"{path}.pipe_length: missing; the pipe heat model needs the "
+                                f"pipe length w (m), e.g. the slab thickness of a quasi-2D run")
 
     @property
     def domain_size(self) -> float:

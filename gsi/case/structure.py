@@ -56,7 +56,8 @@ import numpy as np
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
-__all__ = ["Structure", "Load", "Convection", "FixedTemperature", "Flux", "StructureThermal",
+__all__ = ["Structure", "Load", "Convection", "FixedTemperature", "Flux", "Radiation",
+           "StructureThermal",
            "Contact", "CoupledStructure"]
 
 Vec3 = tuple[float, ...]
@@ -131,6 +132,17 @@ class Flux:
 
 
 @dataclass(kw_only=True)
+class Radiation:
+    """Radiation eps sigma (T^4 - T_ambient^4) out through a tag (explicit in T)."""
+
+    tag: str = param(doc="surface tag")
+    emissivity: float = param(unit="-", check=between(0.0, 1.0, open_lo=True),
+                              doc="surface emissivity")
+    T_ambient: float = param(unit="K", check=nonnegative(),
+                             doc="temperature of the surroundings it radiates to")
+
+
+@dataclass(kw_only=True)
 class StructureThermal:
     """Heat in the structure (``[structures.thermal]``)."""
 
@@ -146,11 +158,15 @@ class StructureThermal:
     fixed: list[FixedTemperature] = param(default_factory=list,
                                           doc="[[structures.thermal.fixed]] tag, T")
     flux: list[Flux] = param(default_factory=list, doc="[[structures.thermal.flux]] tag, q")
+    radiation: list[Radiation] = param(default_factory=list,
+                                       doc="[[structures.thermal.radiation]] tag, emissivity, "
+                                           "T_ambient")
 
     def tags_used(self) -> list[tuple[str, str]]:
         return ([(f"thermal.convection[{i}].tag", c.tag) for i, c in enumerate(self.convection)]
                 + [(f"thermal.fixed[{i}].tag", c.tag) for i, c in enumerate(self.fixed)]
-                + [(f"thermal.flux[{i}].tag", c.tag) for i, c in enumerate(self.flux)])
+                + [(f"thermal.flux[{i}].tag", c.tag) for i, c in enumerate(self.flux)]
+                + [(f"thermal.radiation[{i}].tag", c.tag) for i, c in enumerate(self.radiation)])
 
 
 @dataclass(kw_only=True)
@@ -507,6 +523,8 @@ class Structure:
                 heat.fix_temperature(fx.tag, fx.T)
             for fl in th.flux:
                 heat.set_flux(fl.tag, fl.q)
+            for rd in th.radiation:
+                heat.set_radiation(rd.tag, rd.emissivity, rd.T_ambient)
             heat.check_stability()          # theta < 0.5: dt_FE under the explicit limit
         itf = SurfaceInterface(el, heat=heat, tag=co.tags)
         return CoupledStructure(

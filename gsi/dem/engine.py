@@ -77,7 +77,7 @@ def wall_contact(i, nx, ny, nz, lever, delta, wvx, wvy, wvz, P, ri, Ti, tab, row
         tz += Mz
     Qw = 0.0
     if HEAT_ON and has_T:
-        Qw = COND(wall_radius2(ri, delta), tab, row) * (T_w - Ti)
+        Qw = COND(wall_radius2(ri, delta), ri, math.inf, tab, row) * (T_w - Ti)
     return cfx, cfy, cfz, tx, ty, tz, Qw
 
 
@@ -168,7 +168,7 @@ def pair_contacts(i, P, pairs, tab, row_i, dt):
         P.ncontact[j] += 1
         nc += 1
         if HEAT_ON:
-            Qp = COND(pair_radius2(ri, rj, L2, inv_L), tab, row) * (P.T[j] - Ti)
+            Qp = COND(pair_radius2(ri, rj, L2, inv_L), ri, rj, tab, row) * (P.T[j] - Ti)
             qi += Qp
             P.q[j] -= Qp
     return fx, fy, fz, tx, ty, tz, qi, nc
@@ -499,7 +499,7 @@ def heat_conductance_sum(P, pairs, pl, M, wc, table):
                 x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2], ri, rj)
             if not touch:
                 continue
-            H = COND(pair_radius2(ri, rj, L2, inv_L), tab, row_i + P.type[j])
+            H = COND(pair_radius2(ri, rj, L2, inv_L), ri, rj, tab, row_i + P.type[j])
             Hs[i] += H
             Hs[j] += H
         for p in range(pl.point.shape[0]):
@@ -510,7 +510,7 @@ def heat_conductance_sum(P, pairs, pl, M, wc, table):
                                   pl.normal[p, 2])
             delta = ri - dist
             if delta > 0.0:
-                Hs[i] += COND(wall_radius2(ri, delta), tab, row_i + pl.type[p])
+                Hs[i] += COND(wall_radius2(ri, delta), ri, math.inf, tab, row_i + pl.type[p])
         for s in range(wc.count[i]):
             wl = M.tri_wall[wc.tri[i, s]]
             if not M.wall_has_T[wl]:
@@ -520,5 +520,5 @@ def heat_conductance_sum(P, pairs, pl, M, wc, table):
                 d2 += (wc.point[i, s, d] - x[i, d]) ** 2
             delta = ri - math.sqrt(d2)
             if delta > 0.0:
-                Hs[i] += COND(wall_radius2(ri, delta), tab, row_i + M.wall_type[wl])
+                Hs[i] += COND(wall_radius2(ri, delta), ri, math.inf, tab, row_i + M.wall_type[wl])
     return Hs

@@ -72,7 +72,7 @@ def get_engine(contact="hertz", rolling=False, heat=None):
     rolling : bool or str
         Key of :data:`gsi.dem.contact.ROLLING_LAWS` (False, True/"cdt").
     heat : str or None
-        Key of :data:`gsi.dem.heat.HEAT_MODELS` (None, "area", "radius", "constant").
+        Key of :data:`gsi.dem.heat.HEAT_MODELS` (None, "area", "radius", "constant", "pipe").
     """
     if contact not in CONTACT_LAWS:
         raise GsiInputError(f"contact = {contact!r}: must be one of {sorted(CONTACT_LAWS)}")
@@ -80,7 +80,7 @@ def get_engine(contact="hertz", rolling=False, heat=None):
         raise GsiInputError(f"rolling = {rolling!r}: must be false, true or 'cdt'")
     if heat not in HEAT_MODELS:
         raise GsiInputError(
-            f"heat = {heat!r}: must be one of None, 'area', 'radius', 'constant'")
+            f"heat = {heat!r}: must be one of None, 'area', 'radius', 'constant', 'pipe'")
     rolling_key = "cdt" if rolling is True else rolling
     key = (contact, rolling_key, heat)
     if key in _ENGINES:

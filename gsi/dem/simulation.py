@@ -106,10 +106,13 @@ class Simulation:
         Contact law ("hertz", "linear"; see :mod:`gsi.dem.contact`).
     rolling : bool, default False
         Rolling resistance (constant directional torque, coefficient ``Material.mu_r``).
-    heat : {None, "area", "radius", "constant"}
+    heat : {None, "area", "radius", "constant", "pipe"}
         Contact conduction model (:mod:`gsi.dem.heat`); None: no heat.
     h_c : float, optional
         Conductance of the "constant" model (W/K).
+    pipe_length, pipe_resistance : float, optional
+        Pipe length w (m, > 0) and contact resistance per length R_c* (K m/W, default 0)
+        of the "pipe" model.
     k_n : float, optional
         Normal stiffness of the "linear" law (N/m).
     gravity : (3,) float, default (0, 0, -9.81)
@@ -145,7 +148,7 @@ class Simulation:
     """
 
     def __init__(self, materials, *, contact="hertz", rolling=False, heat=None, h_c=None,
-                 k_n=None, gravity=(0.0, 0.0, -9.81), dt, skin, domain, force_dt=False,
+                 pipe_length=None, pipe_resistance=0.0, k_n=None, gravity=(0.0, 0.0, -9.81), dt, skin, domain, force_dt=False,
                  v_max=100.0, lost="delete", pair_overrides=None, seed=None,
                  parallel_min_n=2000, sort_particles=False, dt_checked=False):
         if not materials:
@@ -165,6 +168,10 @@ class Simulation:
             raise GsiInputError(f"k_n = {k_n}: the linear law needs a normal stiffness > 0 (N/m)")
         if heat == "constant" and not (h_c is not None and h_c >= 0):
             raise GsiInputError(f"h_c = {h_c}: the constant heat model needs a conductance >= 0 (W/K)")
+        if heat == "pipe" and not (pipe_length is not None and pipe_length > 0
+                                   and pipe_resistance >= 0):
+            raise GsiInputError(f"pipe_length = {pipe_length}: the pipe heat model needs a pipe "
+                                "length > 0 (m) and pipe_resistance >= 0 (K m/W)")
         if lost not in ("delete", "error"):
             raise GsiInputError(f"lost = {lost!r}: must be 'delete' or 'error'")
         lo, hi = (np.asarray(domain[0], float), np.asarray(domain[1], float))
@@ -184,7 +191,9 @@ class Simulation:
                     raise GsiInputError(f"pair_overrides.{a}-{b}: unknown material {mname!r}")
             self._overrides[(self._mat_index[a], self._mat_index[b])] = d
         self.table = pair_table([self.materials[k] for k in self._mat_names],
-                                k_n=k_n or 0.0, h_c=h_c or 0.0, pair_overrides=self._overrides)
+                                k_n=k_n or 0.0, h_c=h_c or 0.0, pipe_length=pipe_length or 0.0,
+                                pipe_resistance=pipe_resistance or 0.0,
+                                pair_overrides=self._overrides)
         self.rng = np.random.default_rng(seed)
         self.parallel_min_n = int(parallel_min_n)
         self.sort_particles = bool(sort_particles)
