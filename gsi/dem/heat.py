@@ -24,6 +24,11 @@ no pipe resistance (R = 0 for an infinite radius): its conduction is the FE's.
 A model is ``H(a2, ri, rj, tab, row) -> W/K`` with the radii of the two bodies (m; a wall
 is ``inf``), reading row ``row`` of the flattened pair table. Keep heat terms additive:
 another term (radiation) is a further sum in the engine.
+
+The models are inlined into the engine (``inline="always"``): called as separate compiled
+functions they cost about 0.7 us per touching pair (measured on the quasi-2D drum of
+seed 001 case 6, 336 particles: 0.76 ms per step against 0.24 ms inlined), which made
+every heat run about three times slower than the same run without heat.
 """
 import math
 
@@ -31,25 +36,25 @@ from gsi.jit import njit
 from gsi.dem.materials import P_HC, P_K_I, P_K_J, P_KH, P_PIPE_R, P_PIPE_W
 
 
-@njit
+@njit(inline="always")
 def area(a2, ri, rj, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) sqrt(pi a^2) (W/K)."""
     return tab[row, P_KH] * math.sqrt(math.pi * a2) if a2 > 0.0 else 0.0
 
 
-@njit
+@njit(inline="always")
 def radius(a2, ri, rj, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) a (W/K)."""
     return tab[row, P_KH] * math.sqrt(a2) if a2 > 0.0 else 0.0
 
 
-@njit
+@njit(inline="always")
 def constant(a2, ri, rj, tab, row):
     """H = h_c (W/K) for every touching pair."""
     return tab[row, P_HC]
 
 
-@njit
+@njit(inline="always")
 def pipe_resistance(a, r, k):
     """Feng's pipe resistance per length (K m/W) of a cylinder of radius ``r`` (m) and
     conductivity ``k`` whose contact half-chord is ``a`` (m); 0 for r = inf (a wall)."""
@@ -59,7 +64,7 @@ def pipe_resistance(a, r, k):
     return (-math.log(alpha) + 1.5 + alpha * alpha / 36.0) / (math.pi * k)
 
 
-@njit
+@njit(inline="always")
 def pipe(a2, ri, rj, tab, row):
     """H = w/(R_i + R_j + R_c*) (W/K), Feng's pipe network (module docstring)."""
     if a2 <= 0.0:
@@ -70,7 +75,7 @@ def pipe(a2, ri, rj, tab, row):
     return tab[row, P_PIPE_W] / R
 
 
-@njit
+@njit(inline="always")
 def none(a2, ri, rj, tab, row):
     """No conduction."""
     return 0.0
