@@ -222,6 +222,7 @@ class Simulation:
         self.n_rebuilds = 0
         self._heat_warned = False
         self._built = False
+        self.radiation = None
 
     # ------------------------------------------------------------------ storage
     def _shape(self, cap, trail):
@@ -523,6 +524,16 @@ class Simulation:
         self.inserters.append(ins)
         return ins
 
+    def set_radiation(self, emissivity, *, cutoff=None, every=1, T_enclosure=None):
+        """Turn on particle radiation (:class:`gsi.dem.radiation.Radiation`: emissivity by
+        material name, cut-off c (-, default 1.5), an evaluation every ``every`` steps,
+        an optional enclosure temperature T_enclosure (K)). Returns the model."""
+        from gsi.dem.radiation import CUTOFF_DEFAULT, Radiation
+        self.radiation = Radiation(self, emissivity=emissivity, every=every,
+                                   cutoff=CUTOFF_DEFAULT if cutoff is None else cutoff,
+                                   T_enclosure=T_enclosure)
+        return self.radiation
+
     # ------------------------------------------------------------------ checks
     def rayleigh_time(self):
         """min over particles of the Rayleigh time t_R (s) (inf without particles)."""
@@ -704,6 +715,8 @@ class Simulation:
             else:
                 self._prepare()
             chunk = min([remaining] + [ins.steps_to_next() for ins in self.inserters])
+            if self.radiation is not None:     # applied at T_n over its interval
+                chunk = min(chunk, self.radiation.step_due())
             done, code, info = self.engine.advance(chunk, skip, self.dt, self.g, half_skin2,
                                                    vmax2, self.lo, self.hi, *self._bundles(),
                                                    self.table)
@@ -807,6 +820,8 @@ class Simulation:
         d.update({f"rng.{k}": v for k, v in _rng_state_arrays(self.rng.bit_generator.state).items()})
         for i, ins in enumerate(self.inserters):
             d.update({f"ins{i}.{k}": v for k, v in ins.state().items()})
+        if self.radiation is not None:
+            d.update(self.radiation.state())
         return d
 
     def set_state(self, d):
@@ -847,6 +862,8 @@ class Simulation:
         for i, ins in enumerate(self.inserters):
             ins.set_state({k[len(f"ins{i}."):]: v for k, v in d.items()
                            if k.startswith(f"ins{i}.")})
+        if self.radiation is not None:
+            self.radiation.set_state(d)
 
 
 def _rng_state_arrays(state, prefix=""):
