@@ -31,6 +31,10 @@ Choices made here (DESIGN.md is silent):
   max_i dt sum_j H_ij/(m_i c_p,i) (pairs and planes with a temperature); it is checked
   at every neighbour rebuild: above 1 a GsiRunError (unless ``force_dt``), above 0.5 a
   warning.
+- Radiation (off unless ``sim.set_radiation(...)``, :mod:`gsi.dem.radiation`): its own
+  cached kernels and cell list at the radiation cut-off; every ``every`` steps the step
+  loop stops the compiled chunk and applies the exchange at T_n over the interval
+  (operator splitting beside the engine's contact heat).
 - A particle outside the domain box is deleted and counted in ``n_lost``
   (``lost="error"`` raises GsiRunError instead).  A NaN or a speed above ``v_max``
   (m/s, default 100) stops the run with GsiRunError.
