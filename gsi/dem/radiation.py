@@ -93,7 +93,7 @@ from gsi.jit import njit, pjit, prange
 
 __all__ = ["Radiation", "Rates", "SIGMA", "CUTOFF_DEFAULT"]
 
-#: Stefan-Boltzmann constant (W/(m^2 K^4)), CODATA 2018 (exact in the SI)
+#: Stefan-Boltzmann constant (W/(m^2 K^4)), CODATA 2018 (exact in the 2019 SI; 10 digits)
 SIGMA = 5.670374419e-8
 #: default radiation cut-off c: neighbours closer than c (R_i + R_j) between centres
 CUTOFF_DEFAULT = 1.5

@@ -186,9 +186,14 @@ def test_plane_and_mesh_wall_give_the_same_rate():
     assert np.allclose(rates[0], rates[1], rtol=1e-13, atol=0.0)
 
 
-def test_coupled_plate_heated_by_radiation_only_closes_its_books():
+@pytest.mark.parametrize("degree", [1, 2], ids=["P1-heat", "P2-thermoelastic"])
+def test_coupled_plate_heated_by_radiation_only_closes_its_books(degree):
+    """P1: the heat-only coupling; P2: the thermo-elastic one, whose DEM wall is the face
+    split at its edge midpoints (the radiated heat goes to the six parent nodes)."""
     import meshes
+    from gsi.coupling.staggered import StaggeredCoupling
     from gsi.coupling.thermal import ThermalCoupling
+    from gsi.fem.elasticity import Elasticity
     from gsi.fem.heat import Heat
     L, LZ, R, dt, n_sub = 0.02, 0.002, 1e-3, 1e-4, 10
     steel = dict(E=210e9, nu=0.3, rho=7850.0, c=44.0, k=53.3, alpha=12e-6)
@@ -198,7 +203,15 @@ def test_coupled_plate_heated_by_radiation_only_closes_its_books():
                       "steel": Material(E=210e9, nu=0.3, rho=7850.0, k=53.3, cp=44.0)},
                      heat="area", gravity=(0, 0, 0), dt=dt, skin=2e-4, dt_checked=True,
                      domain=((-0.01, -0.01, -0.01), (L + 0.01, L + 0.01, 0.02)))
-    cp = ThermalCoupling(sim, heat, wall_material="steel", n_sub=n_sub, tag="z1", T_ref=300.0)
+    if degree == 1:
+        cp = ThermalCoupling(sim, heat, wall_material="steel", n_sub=n_sub, tag="z1",
+                             T_ref=300.0)
+    else:
+        el = Elasticity(plate, steel, degree=2, T_ref=300.0)
+        el.clamp("z0")
+        mech = StaggeredCoupling(sim, el, wall_material="steel", n_sub=n_sub, tag="z1")
+        cp = ThermalCoupling(sim, heat, mechanics=mech, tag="z1", T_ref=300.0)
+        assert mech.interface.n_midpoints > 0
     g = np.linspace(0.25 * L, 0.75 * L, 3)
     x = np.array([(a, b, LZ + 1.3 * R) for a in g for b in g])     # no contact: 0.3 R gap
     ids = sim.add_particles(x, R, material="ore", T=900.0)
