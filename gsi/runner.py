@@ -118,6 +118,9 @@ def build_simulation(case, *, dt: float):
         skin=case.dem.skin if case.dem.skin is not None else 0.4 * r_min,
         domain=(case.dem.domain_lo, case.dem.domain_hi), force_dt=case.dem.force_dt,
         pair_overrides=case.pair_overrides(), seed=case.run.seed, dt_checked=True)
+    radiation = case.radiation_options()
+    if radiation is not None:
+        sim.set_radiation(**radiation)
     handles = {}
     for i, w in enumerate(case.walls):
         handles[w.name] = w.add_to(sim, base_dir=case.base_dir, path=f"walls[{i}]")

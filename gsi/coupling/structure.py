@@ -251,6 +251,7 @@ class CoupledStructure:
         if self.thermal is not None and self.thermal.records:
             h = self.thermal.history()
             out.update(Q_particles=float(h["Q_particles"].sum()),
+                       Q_radiation=float(h["Q_radiation"].sum()),
                        Q_structure=float(h["Q_structure"].sum()),
                        Q_boundary_loss=float(h["Q_boundary_loss"].sum()),
                        Q_contact=float(h["Q_contact"].sum()),

@@ -32,7 +32,9 @@ dt_FE = n_sub dt_DEM:
 
 Energy record, per coupling step (``CouplingStep``; also ``energy.csv``):
 
-* ``Q_particles`` heat leaving the particles into this wall over the step (J),
+* ``Q_particles`` heat leaving the particles into this wall over the step (J), conduction
+  and (``dem.radiation``, :mod:`gsi.dem.radiation`) radiation; ``Q_radiation`` the
+  radiated part of it (J),
   ``Q_structure`` heat entering the structure through the nodal loads (J, summed over the
   owned dofs of all ranks), ``balance_error`` = Q_structure - Q_particles (round-off);
 * ``Q_boundary_loss`` heat leaving the structure through its boundary over the step (J):
@@ -44,7 +46,7 @@ Energy record, per coupling step (``CouplingStep``; also ``energy.csv``):
   contacts with other structures (J; :mod:`gsi.fem.contact_heat`, 0 without);
 * ``drift`` = E_particles + E_structure + (cumulative boundary loss) - (initial
   E_particles + E_structure) - (cumulative heat from DEM planes with a temperature)
-  - (cumulative Q_contact) (J):
+  - (cumulative Q_contact) - (cumulative heat from the radiation enclosure) (J):
   zero to round-off while no particle leaves the domain or is inserted, and while this
   is the only heated wall of the DEM (with two coupled structures on one DEM the
   particles' energy also changes by the other's heat; ``balance_error`` still holds
@@ -109,11 +111,13 @@ class CouplingStep:
     t: float                 # s, simulated time at the end of the step
     t_thermal: float         # s, time of the physical system (time_scale * t)
     Q_particles: float       # J, heat leaving the particles into the wall over the step
+    Q_radiation: float       # J, the part of Q_particles carried by radiation
     Q_structure: float       # J, heat entering the structure through the nodal loads
     balance_error: float     # J, Q_structure - Q_particles
     heat_flow: float         # W, Q_structure / dt_FE: heat flow into the wall
     Q_boundary_loss: float   # J, heat leaving the structure through its boundary (convection)
-    Q_planes: float          # J, heat from DEM planes with a temperature into the particles
+    Q_planes: float          # J, heat from DEM planes with a temperature (and the radiation
+                             # enclosure) into the particles
     Q_contact: float         # J, heat into the structure from FE-FE contacts (other bodies)
     E_particles: float       # J, sum m c_p (T - T_ref)
     E_structure: float       # J, int rho c (T - T_ref) dx
@@ -286,7 +290,8 @@ class ThermalCoupling(RecordLog):
         planes0 = None
         if self.is_root:
             self.wall.vertex_temperature = self.wall_temperature()
-            planes0 = [p.heat_to_particles for p in self.sim.planes]
+            planes0 = [p.heat_to_particles for p in self.sim.planes] + _radiation_totals(
+                self.sim, self.wall)
         if self.mechanics is not None:
             self.elasticity.set_temperature(self.heat.T)     # thermal strain of this solve: T_k
             self.mechanics.begin()
@@ -316,9 +321,12 @@ class ThermalCoupling(RecordLog):
             sim, wall = self.sim, self.wall
             W = itf.vertex_heat(wall.vertex_heat) / self.dt   # W into the structure
             E_p, T_mean, T_max = _particle_energy(sim, self.T_ref)
-            info = dict(Q_particles=-wall.heat_to_particles,
-                        Q_planes=sum(p.heat_to_particles - q0 for p, q0 in zip(sim.planes, planes0)
-                                     if p.temperature is not None),
+            rad_wall, rad_enc = (a - b for a, b in zip(_radiation_totals(sim, wall),
+                                                      planes0[len(sim.planes):]))
+            info = dict(Q_particles=-wall.heat_to_particles, Q_radiation=-rad_wall,
+                        Q_planes=rad_enc + sum(p.heat_to_particles - q0 for p, q0 in
+                                               zip(sim.planes, planes0)
+                                               if p.temperature is not None),
                         E_particles=E_p, T_pm=T_mean, T_px=T_max, n=int(sim.n),
                         nc=int(sim.contact_count()),
                         Fz=float(-wall.impulse_on_particles[2] / self.dt),
@@ -370,7 +378,8 @@ class ThermalCoupling(RecordLog):
         m = heat.material
         rec = CouplingStep(
             step=self.step_count, t=self.t, t_thermal=self.time_scale * self.t,
-            Q_particles=info["Q_particles"], Q_structure=Q_structure,
+            Q_particles=info["Q_particles"], Q_radiation=info["Q_radiation"],
+            Q_structure=Q_structure,
             balance_error=Q_structure - info["Q_particles"], heat_flow=Q_structure / self.dt,
             Q_boundary_loss=Q_loss, Q_planes=info["Q_planes"], Q_contact=Q_contact,
             E_particles=E_p, E_structure=E_s, drift=drift, T_wall_max=T_max,
@@ -437,6 +446,15 @@ class ThermalCoupling(RecordLog):
                           if is_open else None)
         if self.is_root and dem_step0 >= 0:
             self._dem_step0 = dem_step0
+
+
+def _radiation_totals(sim, wall):
+    """[heat radiated from ``wall`` into the particles, heat from the radiation enclosure]
+    since the start (J; zeros without radiation)."""
+    rad = sim.radiation
+    if rad is None:
+        return [0.0, 0.0]
+    return [rad.heat_from(wall), rad.enclosure_heat]
 
 
 def _particle_energy(sim, T_ref):

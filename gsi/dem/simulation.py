@@ -31,6 +31,10 @@ Choices made here (DESIGN.md is silent):
   max_i dt sum_j H_ij/(m_i c_p,i) (pairs and planes with a temperature); it is checked
   at every neighbour rebuild: above 1 a GsiRunError (unless ``force_dt``), above 0.5 a
   warning.
+- Radiation (off unless ``sim.set_radiation(...)``, :mod:`gsi.dem.radiation`): its own
+  cached kernels and cell list at the radiation cut-off; every ``every`` steps the step
+  loop stops the compiled chunk and applies the exchange at T_n over the interval
+  (operator splitting beside the engine's contact heat).
 - A particle outside the domain box is deleted and counted in ``n_lost``
   (``lost="error"`` raises GsiRunError instead).  A NaN or a speed above ``v_max``
   (m/s, default 100) stops the run with GsiRunError.
@@ -222,6 +226,7 @@ class Simulation:
         self.n_rebuilds = 0
         self._heat_warned = False
         self._built = False
+        self.radiation = None
 
     # ------------------------------------------------------------------ storage
     def _shape(self, cap, trail):
@@ -523,6 +528,16 @@ class Simulation:
         self.inserters.append(ins)
         return ins
 
+    def set_radiation(self, emissivity, *, cutoff=None, every=1, T_enclosure=None):
+        """Turn on particle radiation (:class:`gsi.dem.radiation.Radiation`: emissivity by
+        material name, cut-off c (-, default 1.5), an evaluation every ``every`` steps,
+        an optional enclosure temperature T_enclosure (K)). Returns the model."""
+        from gsi.dem.radiation import CUTOFF_DEFAULT, Radiation
+        self.radiation = Radiation(self, emissivity=emissivity, every=every,
+                                   cutoff=CUTOFF_DEFAULT if cutoff is None else cutoff,
+                                   T_enclosure=T_enclosure)
+        return self.radiation
+
     # ------------------------------------------------------------------ checks
     def rayleigh_time(self):
         """min over particles of the Rayleigh time t_R (s) (inf without particles)."""
@@ -704,6 +719,8 @@ class Simulation:
             else:
                 self._prepare()
             chunk = min([remaining] + [ins.steps_to_next() for ins in self.inserters])
+            if self.radiation is not None:     # applied at T_n over its interval
+                chunk = min(chunk, self.radiation.step_due())
             done, code, info = self.engine.advance(chunk, skip, self.dt, self.g, half_skin2,
                                                    vmax2, self.lo, self.hi, *self._bundles(),
                                                    self.table)
@@ -807,6 +824,8 @@ class Simulation:
         d.update({f"rng.{k}": v for k, v in _rng_state_arrays(self.rng.bit_generator.state).items()})
         for i, ins in enumerate(self.inserters):
             d.update({f"ins{i}.{k}": v for k, v in ins.state().items()})
+        if self.radiation is not None:
+            d.update(self.radiation.state())
         return d
 
     def set_state(self, d):
@@ -847,6 +866,8 @@ class Simulation:
         for i, ins in enumerate(self.inserters):
             ins.set_state({k[len(f"ins{i}."):]: v for k, v in d.items()
                            if k.startswith(f"ins{i}.")})
+        if self.radiation is not None:
+            self.radiation.set_state(d)
 
 
 def _rng_state_arrays(state, prefix=""):

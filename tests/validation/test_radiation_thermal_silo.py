@@ -6,8 +6,9 @@ The quick form (60 s of heating with the heat-capacity scale 200) is run with an
 without radiation. Checked: the energy books still close (the radiated heat is in
 Q_boundary_loss), radiation raises the outer loss, and the heat the bed gives the wall
 (the DEM-FE conduction) is nearly unchanged while the wall stays much colder than the
-clinker. The radiation here is the FE surface's only: particle-particle and
-particle-wall radiation in the DEM (seed 000 eq. 22) are not built.
+clinker. The radiation here is the FE surface's only; the bed's own radiation (seed 000
+eqs. 22-23, particle-particle and particle-wall) is demos/thermal_silo_radiation.toml,
+studied in tests/validation/test_radiation_dem.py and benchmarks/silo_radiation_share.py.
 
 Measured: outer loss 0.5829 J (convection) -> 0.6953 J with radiation (+19.3 %; scaled
 energies, physical / 200); bed -> wall heat 26.22 -> 26.28 J (+0.23 %); heat flow into
