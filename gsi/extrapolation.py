@@ -1,0 +1,419 @@
+"""Long-time extrapolation of particle heat conduction from one period of DEM.
+
+The method of Haydar, Martin & Bonnefoy (2023), "Long time extrapolation of DEM with
+heat conduction in a moving granular medium", Chem. Eng. Sci. 277, 118815, built on the
+motion extrapolation of Bednarek et al. (2019), Chem. Eng. Sci. 197, 223-234:
+
+1. Run the DEM to a pseudo-periodic state at t0 and log every contact until t1 = t0 + tau
+   (:meth:`gsi.dem.Simulation.start_contact_log`, :mod:`gsi.dem.contact_log`).
+2. Pair the particles (their eq. 6, :func:`pair_particles`): the bijection sigma between
+   the particles at t0 and at t1 that minimises the summed distance
+   sum_a |x_a(t0) - x_sigma(a)(t1)|.  Particle sigma(a) stands at t1 where a stood at t0,
+   so in the next period it does what a did: x_sigma(a)(t2) = x_a(t1).  After p periods
+   the role of logged particle a is played by sigma^p(a).
+3. Replay the log (their Algorithm 3 with eqs. 7-8, :class:`Replay`): period after
+   period, each row (a, b, m, s) in the order of the log, applied to the particles
+   k = sigma^p(a), l = sigma^p(b) that play a and b now:
+
+       Q = H (T_k - T_l),  H = c s,  T_k <- T_k - Q m/C_k,  T_l <- T_l + Q m/C_l
+
+   with C = m c_p (J/K) and c s the conductance of the DEM's heat model.  Rows with a
+   wall that has a temperature exchange heat with it (T_k <- T_k + H m (T_w - T_k)/C_k,
+   the wall's temperature fixed at its t0 value); rows with an adiabatic wall do
+   nothing.  Each exchange conserves C_k T_k + C_l T_l, so sum C T is conserved to
+   round-off.
+
+   Stability (the explicit update of one row, their section 2.1.3): m < C/(2 K sqrt(a))
+   = C/H, here with C the smaller heat capacity of the two.  A row that breaks it is
+   replayed as s = floor(m H/C) + 1 equal sub-steps of m/s (each then within the
+   bound), counted in :attr:`Replay.n_substepped`; ``on_unstable="error"`` refuses the
+   log instead, naming the row and the largest stable ``dt_split``.
+
+4. Between periods nothing else changes: the extrapolated configuration at every t_n is
+   the configuration at t1 (particle sigma^(n-1)(a) stands at x_a(t1)), relabelled
+   (:meth:`Replay.positions`).
+
+Error measures of the paper: :func:`cell_error` (its eq. 9, on Voronoi cells) and
+:func:`energy_transfer_error` (its eq. 10).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from gsi.errors import GsiInputError
+from gsi.jit import njit
+
+__all__ = ["pair_particles", "pairing_cost", "Replay", "voronoi_seeds", "cell_means",
+           "cell_error", "energy_transfer_error", "compare_with_dem", "DENSE_PAIRING_MAX"]
+
+#: up to this many particles the pairing solves the dense assignment problem (8 N^2
+#: bytes of distances: 0.8 GB at 10,000)
+DENSE_PAIRING_MAX = 10_000
+
+
+def pair_particles(x0, x1, *, method="auto", k=16):
+    """The pairing f_ext of eq. 6: the permutation sigma minimising
+    sum_a |x0[a] - x1[sigma[a]]| (Euclidean distances).
+
+    Parameters
+    ----------
+    x0, x1 : (N, 3) float
+        Positions (m) of the same N particles at t0 and t1.
+    method : {"auto", "dense", "sparse"}
+        ``dense``: the exact assignment (scipy.optimize.linear_sum_assignment on all
+        N^2 distances); ``sparse``: the exact minimum-weight perfect matching
+        (scipy.sparse.csgraph.min_weight_full_bipartite_matching) restricted to each
+        particle's ``k`` nearest t1 positions, k doubled until a perfect matching exists
+        (the optimum of the restricted problem; it equals the dense optimum when no
+        optimal pair is farther apart than k-th neighbours -- checked against ``dense``
+        in the tests).  ``auto``: dense up to :data:`DENSE_PAIRING_MAX` particles.
+    k : int
+        First neighbour count of ``sparse``.
+
+    Returns
+    -------
+    sigma : (N,) int64
+        x1[sigma[a]] is the t1 position paired with x0[a].
+    """
+    from scipy.optimize import linear_sum_assignment
+    x0 = np.asarray(x0, float)
+    x1 = np.asarray(x1, float)
+    n = len(x0)
+    if x0.shape != x1.shape or x0.ndim != 2 or x0.shape[1] != 3:
+        raise GsiInputError(f"pair_particles: x0 {x0.shape} and x1 {x1.shape} must both be "
+                            "(N, 3)")
+    if method not in ("auto", "dense", "sparse"):
+        raise GsiInputError(f"pairing method = {method!r}: must be 'auto', 'dense' or "
+                            "'sparse'")
+    if method == "dense" or (method == "auto" and n <= DENSE_PAIRING_MAX):
+        from scipy.spatial.distance import cdist
+        rows, cols = linear_sum_assignment(cdist(x0, x1))
+        sigma = np.empty(n, np.int64)
+        sigma[rows] = cols
+        return sigma
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import min_weight_full_bipartite_matching
+    from scipy.spatial import cKDTree
+    tree = cKDTree(x1)
+    k = min(k, n)
+    while True:
+        d, j = tree.query(x0, k=k)
+        d = np.asarray(d).reshape(n, k)
+        j = np.asarray(j).reshape(n, k)
+        # a zero distance is a missing entry of a sparse matrix: lift it to a tiny weight
+        w = np.maximum(d, 1e-300)
+        G = csr_matrix((w.ravel(), j.ravel(), np.arange(0, n * k + 1, k)), shape=(n, n))
+        try:
+            rows, cols = min_weight_full_bipartite_matching(G)
+            break
+        except ValueError:          # no perfect matching among the k nearest
+            if k >= n:
+                raise
+            k = min(2 * k, n)
+    sigma = np.empty(n, np.int64)
+    sigma[rows] = cols
+    return sigma
+
+
+def pairing_cost(x0, x1, sigma) -> float:
+    """sum_a |x0[a] - x1[sigma[a]]| (m)."""
+    return float(np.linalg.norm(np.asarray(x0) - np.asarray(x1)[sigma], axis=1).sum())
+
+
+@njit
+def _replay_rows(T, a, b, w, Tw, inv_C):
+    """Apply the rows in order to T (the particles' temperatures in the log's frame:
+    T[a] belongs to the particle playing logged particle a): eqs. 7-8 for b >= 0, a
+    fixed-temperature wall ``Tw`` for b < 0."""
+    for r in range(a.shape[0]):
+        ka = a[r]
+        kb = b[r]
+        if kb >= 0:
+            q = w[r] * (T[ka] - T[kb])
+            T[ka] -= q * inv_C[ka]
+            T[kb] += q * inv_C[kb]
+        else:
+            T[ka] += w[r] * (Tw[r] - T[ka]) * inv_C[ka]
+
+
+class Replay:
+    """The heat extrapolation (Algorithm 3, eqs. 7-8) of a :class:`ContactLog`.
+
+    Parameters
+    ----------
+    log : gsi.dem.contact_log.ContactLog
+    sigma : (N,) int, optional
+        The pairing (:func:`pair_particles`); default computed from ``log.x0``,
+        ``log.x1`` (its time in :attr:`pairing_seconds`).
+    on_unstable : {"substep", "error"}
+        What a row breaking the stability bound m < C/H does (module docstring).
+    pairing : str
+        ``method`` of :func:`pair_particles`.
+
+    Attributes
+    ----------
+    sigma : (N,) int64
+    n_rows : int
+        Rows replayed per period (after sub-steps; adiabatic wall rows dropped).
+    n_substepped : int
+        Log rows split into sub-steps by the stability bound.
+    max_stability_ratio : float
+        max over rows of m H/C (the bound is < 1).
+    pairing_seconds, setup_seconds : float
+    """
+
+    def __init__(self, log, *, sigma=None, on_unstable="substep", pairing="auto"):
+        if on_unstable not in ("substep", "error"):
+            raise GsiInputError(f"on_unstable = {on_unstable!r}: must be 'substep' or 'error'")
+        self.log = log
+        t = time.perf_counter()
+        self.sigma = (pair_particles(log.x0, log.x1, method=pairing) if sigma is None
+                      else np.asarray(sigma, np.int64))
+        self.pairing_seconds = time.perf_counter() - t
+        n = log.n_particles
+        if self.sigma.shape != (n,) or not np.array_equal(np.sort(self.sigma), np.arange(n)):
+            raise GsiInputError(f"sigma: must be a permutation of 0..{n - 1}")
+        t = time.perf_counter()
+        C = np.asarray(log.heat_capacity, float)
+        typ = log.type
+        # particle-particle rows and the wall rows that exchange heat, in log order
+        w_pp = (log.pp_dur * log.dt) * log.coef[typ[log.pp_i], typ[log.pp_j]] \
+            * log.pp_size.astype(float)
+        keep = log.wall_has_T[log.pw_wall] if len(log.pw_wall) else np.zeros(0, bool)
+        pw_i, pw_wall = log.pw_i[keep], log.pw_wall[keep]
+        w_pw = (log.pw_dur[keep] * log.dt) * log.coef[typ[pw_i], log.wall_type[pw_wall]] \
+            * log.pw_size[keep].astype(float)
+        start = np.concatenate([log.pp_start, log.pw_start[keep]])
+        m = np.concatenate([log.pp_dur, log.pw_dur[keep]]) * log.dt
+        a = np.concatenate([log.pp_i, pw_i]).astype(np.int32)
+        b = np.concatenate([log.pp_j, np.full(len(pw_i), -1, np.int32)]).astype(np.int32)
+        w = np.concatenate([w_pp, w_pw])
+        Tw = np.concatenate([np.zeros(len(w_pp)), log.wall_T[pw_wall]])
+        order = np.argsort(start, kind="stable")      # pp rows are already in log order
+        a, b, w, Tw, m = a[order], b[order], w[order], Tw[order], m[order]
+        C_min = np.where(b >= 0, np.minimum(C[a], C[np.maximum(b, 0)]), C[a])
+        ratio = w / C_min                              # m H/C: stable below 1
+        self.max_stability_ratio = float(ratio.max()) if len(ratio) else 0.0
+        bad = ratio >= 1.0
+        self.n_substepped = int(bad.sum())
+        if self.n_substepped and on_unstable == "error":
+            r = int(np.argmax(ratio))
+            m_max = float(np.min(m[ratio > 0] / ratio[ratio > 0]))
+            raise GsiInputError(
+                f"on_unstable = 'error': {self.n_substepped} rows of the contact log break "
+                f"the stability bound m < C/H of the explicit replay (worst: row {r}, "
+                f"m H/C = {ratio[r]:.3g}); log with dt_split < {m_max:.3g} s or replay "
+                "with on_unstable = 'substep'")
+        if self.n_substepped:
+            s = np.where(bad, np.floor(ratio) + 1, 1).astype(np.int64)
+            a, b, Tw = np.repeat(a, s), np.repeat(b, s), np.repeat(Tw, s)
+            w = np.repeat(w / s, s)
+        self._a, self._b, self._w, self._Tw = a, b, w, Tw
+        self.n_rows = len(a)
+        self.setup_seconds = time.perf_counter() - t
+
+    def run(self, periods, *, T=None, positions=False):
+        """Extrapolate ``periods`` periods from t1.
+
+        Parameters
+        ----------
+        periods : int
+        T : (N,) float, optional
+            Temperatures at t1 (log order), default ``log.T1``.
+        positions : bool
+            Also return the extrapolated positions at each t_n.
+
+        Returns
+        -------
+        dict
+            ``T`` (periods + 1, N): temperatures of the logged particles (log order, by
+            particle identity) at t1, t2, ...; ``time`` (periods + 1,) s; with
+            ``positions``, ``x`` (periods + 1, N, 3) m; ``seconds``: replay wall time.
+        """
+        log = self.log
+        n = log.n_particles
+        T_real = np.array(log.T1 if T is None else T, float)
+        if T_real.shape != (n,):
+            raise GsiInputError(f"T: must have {n} temperatures (log order)")
+        inv_C_real = 1.0 / np.asarray(log.heat_capacity, float)
+        out_T = np.empty((periods + 1, n))
+        out_T[0] = T_real
+        out_x = np.empty((periods + 1, n, 3)) if positions else None
+        if positions:
+            out_x[0] = log.x1
+        role = np.arange(n)              # role[a]: the particle playing a at the last t_n
+        t = time.perf_counter()
+        for p in range(1, periods + 1):
+            role = role[self.sigma]      # sigma^p
+            Tt = T_real[role]
+            _replay_rows(Tt, self._a, self._b, self._w, self._Tw, inv_C_real[role])
+            T_real[role] = Tt
+            out_T[p] = T_real
+            if positions:
+                out_x[p][role] = log.x1
+        seconds = time.perf_counter() - t
+        res = {"T": out_T, "time": log.t1 + log.period * np.arange(periods + 1),
+               "seconds": seconds}
+        if positions:
+            res["x"] = out_x
+        return res
+
+    def positions(self, periods):
+        """Extrapolated positions (periods + 1, N, 3) (m) at t1, t2, ... (log order)."""
+        n = self.log.n_particles
+        out = np.empty((periods + 1, n, 3))
+        out[0] = self.log.x1
+        role = np.arange(n)
+        for p in range(1, periods + 1):
+            role = role[self.sigma]
+            out[p][role] = self.log.x1
+        return out
+
+
+def voronoi_seeds(x, count=200, *, seed=0):
+    """``count`` seed points of the Voronoi cells of eq. 9: positions of distinct
+    particles drawn at random (generator ``seed``) from ``x`` (m), so every cell lies in
+    the bed."""
+    x = np.asarray(x, float)
+    if count > len(x):
+        raise GsiInputError(f"voronoi cells = {count}: more than the {len(x)} particles")
+    rng = np.random.default_rng(seed)
+    return x[rng.choice(len(x), count, replace=False)]
+
+
+def cell_means(seeds, x, T):
+    """Mean of T over the particles of each Voronoi cell (nearest seed); NaN where a
+    cell holds none.  Returns (means (v,), counts (v,))."""
+    from scipy.spatial import cKDTree
+    cell = cKDTree(seeds).query(np.asarray(x, float))[1]
+    v = len(seeds)
+    count = np.bincount(cell, minlength=v)
+    total = np.bincount(cell, weights=np.asarray(T, float), minlength=v)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return total / count, count
+
+
+def cell_error(seeds, x_dem, T_dem, x_ext, T_ext, *, hot=None):
+    """The error of eq. 9 on the Voronoi cells of ``seeds``.
+
+    eps_abs = (1/v) sum_cells |mean T_DEM - mean T_extra| over the v cells that hold
+    particles in both fields; eps_rel = eps_abs/|T_hot - T_cold| with T_hot, T_cold the
+    DEM means of the particles flagged ``hot`` and the others (if given).
+
+    Returns
+    -------
+    (eps_abs, eps_rel, cells_used)
+    """
+    m_dem, c_dem = cell_means(seeds, x_dem, T_dem)
+    m_ext, c_ext = cell_means(seeds, x_ext, T_ext)
+    both = (c_dem > 0) & (c_ext > 0)
+    eps_abs = float(np.abs(m_dem[both] - m_ext[both]).mean())
+    eps_rel = np.nan
+    if hot is not None:
+        hot = np.asarray(hot, bool)
+        diff = abs(float(np.mean(T_dem[hot]) - np.mean(T_dem[~hot])))
+        eps_rel = eps_abs / diff if diff > 0 else np.inf
+    return eps_abs, eps_rel, int(both.sum())
+
+
+def energy_transfer_error(T_dem_n, T_dem_next, T_ext_n, T_ext_next):
+    """eq. 10: (sum |T_{n+1} - T_n| - sum |T^ext_{n+1} - T^ext_n|)/sum |T_{n+1} - T_n|,
+    sums over the particles (by identity); signed (positive: the extrapolation moves
+    less heat than the DEM)."""
+    dem = float(np.abs(np.asarray(T_dem_next) - T_dem_n).sum())
+    ext = float(np.abs(np.asarray(T_ext_next) - T_ext_n).sum())
+    return (dem - ext) / dem
+
+
+def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=None,
+                     cells=200, seed=0, log_dir=None, say=None):
+    """Extrapolate from one logged period of ``sim`` and compare with its own full DEM.
+
+    From the state of ``sim`` (t0): for each ``(every, dt_split)`` of ``samplings``, log
+    the period t0..t1 (``period_steps`` steps) and replay it for ``periods`` periods;
+    the first sampling's run then continues as the reference DEM to t1 + periods tau
+    (the others restart from the state at t0: the DEM is deterministic, so their t1 is
+    the same, which is checked).
+
+    Errors at each t_{n+1} (n = 1..periods): eq. 9 on ``cells`` Voronoi cells whose seeds
+    are the positions at t1 of ``cells`` particles drawn at random (generator ``seed``;
+    the extrapolated configuration at every t_n is that of t1, relabelled), absolute and
+    relative to |T_hot - T_cold| (DEM means of the particles flagged ``hot``, by id);
+    eq. 10 from t_n to t_{n+1}; the drift of sum C T of the replay and of the DEM
+    relative to its value at t1.
+
+    Returns
+    -------
+    dict
+        ``dem``: reference (``T``, ``x`` (periods + 1, N, ...) by log order, ``seconds``
+        per period, ``energy_drift``); ``runs``: per sampling a dict with ``every``,
+        ``dt_split``, ``log`` (the :class:`ContactLog`), ``log_seconds`` (the DEM period
+        with the log on), ``file_bytes``, ``file_seconds``, ``pairing_seconds``,
+        ``replay_seconds`` (per period), ``T``, ``eps_abs``, ``eps_rel``,
+        ``energy_error`` (eq. 10), ``energy_drift``, ``n_substepped``,
+        ``max_stability_ratio``, ``same_t1``.
+    """
+    import pathlib
+    say = say or (lambda *a: None)
+    state0 = sim.state()
+    runs = []
+    dem = None
+    seeds = None
+    for k, (every, dt_split) in enumerate(samplings):
+        if k:
+            sim.set_state(state0)
+        t = time.perf_counter()
+        sim.start_contact_log(every=every, dt_split=dt_split)
+        sim.step(period_steps)
+        log = sim.stop_contact_log()
+        run = {"every": every, "dt_split": dt_split, "log": log,
+               "log_seconds": time.perf_counter() - t}
+        say(f"logged t0..t1 with every = {every}, dt_split = {dt_split}: "
+            f"{log.n_collisions} rows in {run['log_seconds']:.1f} s")
+        hot_log = None if hot is None else np.asarray(hot)[log.ids]
+        if dem is None:
+            rows = sim.index(log.ids)
+            T_dem = [sim.T[rows].copy()]
+            x_dem = [sim.x[rows].copy()]
+            t = time.perf_counter()
+            for p in range(periods):
+                sim.step(period_steps)
+                rows = sim.index(log.ids)
+                T_dem.append(sim.T[rows].copy())
+                x_dem.append(sim.x[rows].copy())
+                say(f"reference DEM: period {p + 1}/{periods}")
+            C = log.heat_capacity
+            E = np.array([float(C @ T) for T in T_dem])
+            dem = {"T": np.array(T_dem), "x": np.array(x_dem),
+                   "seconds": (time.perf_counter() - t) / periods,
+                   "energy_drift": np.abs(E - E[0]) / abs(E[0]), "T1": log.T1}
+            seeds = voronoi_seeds(log.x1, cells, seed=seed)
+        run["same_t1"] = bool(np.array_equal(log.T1, dem["T1"]))
+        if log_dir is not None:
+            path = pathlib.Path(log_dir) / f"contact_log_every{every}.npz"
+            t = time.perf_counter()
+            run["file_bytes"] = log.save(path)
+            run["file_seconds"] = time.perf_counter() - t
+        rep = Replay(log)
+        res = rep.run(periods, positions=True)
+        run.update(pairing_seconds=rep.pairing_seconds,
+                   replay_seconds=(res["seconds"] + rep.setup_seconds) / periods,
+                   n_substepped=rep.n_substepped, max_stability_ratio=rep.max_stability_ratio,
+                   T=res["T"], x=res["x"], n_rows=rep.n_rows)
+        eps_abs, eps_rel, eps_e = [], [], []
+        for n in range(1, periods + 1):
+            ea, er, _ = cell_error(seeds, dem["x"][n], dem["T"][n], res["x"][n], res["T"][n],
+                                   hot=hot_log)
+            eps_abs.append(ea)
+            eps_rel.append(er)
+            eps_e.append(energy_transfer_error(dem["T"][n - 1], dem["T"][n], res["T"][n - 1],
+                                               res["T"][n]))
+        E = res["T"] @ log.heat_capacity
+        run.update(eps_abs=np.array(eps_abs), eps_rel=np.array(eps_rel),
+                   energy_error=np.array(eps_e), energy_drift=np.abs(E - E[0]) / abs(E[0]))
+        runs.append(run)
+        say(f"every = {every}: eps_abs max {max(eps_abs):.3g} K, eps_rel max "
+            f"{np.nanmax(eps_rel):.3g}, eq. 10 max |{np.max(np.abs(eps_e)):.3g}|")
+    return {"dem": dem, "runs": runs, "seeds": seeds}
