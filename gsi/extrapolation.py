@@ -53,24 +53,24 @@ __all__ = ["pair_particles", "pairing_cost", "Replay", "voronoi_seeds", "cell_me
 DENSE_PAIRING_MAX = 10_000
 
 
-def pair_particles(x0, x1, *, method="auto", k=16):
+def pair_particles(x0, x1, *, method="auto", k=8):
     """The pairing f_ext of eq. 6: the permutation sigma minimising
-    sum_a |x0[a] - x1[sigma[a]]| (Euclidean distances).
+    sum_a |x0[a] - x1[sigma[a]]| (Euclidean distances); exact.
 
     Parameters
     ----------
     x0, x1 : (N, 3) float
         Positions (m) of the same N particles at t0 and t1.
     method : {"auto", "dense", "sparse"}
-        ``dense``: the exact assignment (scipy.optimize.linear_sum_assignment on all
-        N^2 distances); ``sparse``: the exact minimum-weight perfect matching
-        (scipy.sparse.csgraph.min_weight_full_bipartite_matching) restricted to each
-        particle's ``k`` nearest t1 positions, k doubled until a perfect matching exists
-        (the optimum of the restricted problem; it equals the dense optimum when no
-        optimal pair is farther apart than k-th neighbours -- checked against ``dense``
-        in the tests).  ``auto``: dense up to :data:`DENSE_PAIRING_MAX` particles.
+        ``dense``: scipy.optimize.linear_sum_assignment on all N^2 distances (8 N^2
+        bytes).  ``sparse``: scipy.sparse.csgraph.min_weight_full_bipartite_matching on
+        the ``k`` nearest t1 positions of each particle, then a certificate of global
+        optimality: LP dual potentials of that matching (:func:`_dual_potentials`) are
+        checked against every pair close enough to break them (a ball query); pairs that
+        do are added and the matching solved again, until none does.  ``auto``: dense
+        up to :data:`DENSE_PAIRING_MAX` particles.
     k : int
-        First neighbour count of ``sparse``.
+        Neighbours per particle of the first sparse graph.
 
     Returns
     -------
@@ -93,28 +93,92 @@ def pair_particles(x0, x1, *, method="auto", k=16):
         sigma = np.empty(n, np.int64)
         sigma[rows] = cols
         return sigma
+    return _sparse_pairing(x0, x1, min(k, n))
+
+
+def _sparse_pairing(x0, x1, k):
+    """The exact assignment through sparse matchings and a dual certificate (see
+    :func:`pair_particles`)."""
     from scipy.sparse import csr_matrix
     from scipy.sparse.csgraph import min_weight_full_bipartite_matching
     from scipy.spatial import cKDTree
-    tree = cKDTree(x1)
-    k = min(k, n)
+    n = len(x0)
+    tree1 = cKDTree(x1)
+    tree0 = cKDTree(x0)
+    _, j = tree1.query(x0, k=k)
+    a = np.repeat(np.arange(n), k)
+    b = np.asarray(j).reshape(-1)
+    scale = float(np.ptp(np.vstack([x0, x1]), axis=0).max()) or 1.0
+    tol = 1e-12 * scale
     while True:
-        d, j = tree.query(x0, k=k)
-        d = np.asarray(d).reshape(n, k)
-        j = np.asarray(j).reshape(n, k)
-        # a zero distance is a missing entry of a sparse matrix: lift it to a tiny weight
-        w = np.maximum(d, 1e-300)
-        G = csr_matrix((w.ravel(), j.ravel(), np.arange(0, n * k + 1, k)), shape=(n, n))
+        edges = np.unique(a * n + b)
+        a, b = edges // n, edges % n
+        c = np.linalg.norm(x0[a] - x1[b], axis=1)
+        # a zero distance would be a missing entry of the sparse matrix
+        G = csr_matrix((np.maximum(c, 1e-300), (a, b)), shape=(n, n))
+        G.sort_indices()
         try:
             rows, cols = min_weight_full_bipartite_matching(G)
-            break
-        except ValueError:          # no perfect matching among the k nearest
-            if k >= n:
-                raise
+        except ValueError:               # no perfect matching in the graph: more neighbours
             k = min(2 * k, n)
-    sigma = np.empty(n, np.int64)
-    sigma[rows] = cols
-    return sigma
+            _, j = tree1.query(x0, k=k)
+            a = np.concatenate([a, np.repeat(np.arange(n), k)])
+            b = np.concatenate([b, np.asarray(j).reshape(-1)])
+            continue
+        sigma = np.empty(n, np.int64)
+        sigma[rows] = cols
+        c_m = np.linalg.norm(x0 - x1[sigma], axis=1)
+        cost = np.linalg.norm(x0[np.repeat(np.arange(n), np.diff(G.indptr))]
+                              - x1[G.indices], axis=1)
+        pi_row, ok = _dual_potentials(G.indptr, G.indices, cost, sigma, c_m)
+        if not ok:                       # cannot happen for an optimal matching
+            raise RuntimeError("pairing: the sparse matching is not optimal on its graph")
+        u = -pi_row                                   # u_a + v_b <= c(a, b), = on sigma
+        v = np.empty(n)
+        v[sigma] = c_m + pi_row
+        U = float(u.max())
+        radius = U + v + tol
+        near = tree0.query_ball_point(x1, np.maximum(radius, 0.0))
+        cnt = np.array([len(q) for q in near])
+        if cnt.sum() == 0:
+            return sigma
+        ca = np.concatenate([np.asarray(q, np.int64) for q in near if len(q)])
+        cb = np.repeat(np.arange(n), cnt)
+        bad = u[ca] + v[cb] > np.linalg.norm(x0[ca] - x1[cb], axis=1) + tol
+        if not bad.any():
+            return sigma
+        a = np.concatenate([a, ca[bad]])
+        b = np.concatenate([b, cb[bad]])
+
+
+@njit
+def _dual_potentials(indptr, indices, cost, sigma, c_m):
+    """Shortest-path potentials of the rows in the residual graph of a matching
+    (Bellman-Ford from a source joined to every row at cost 0): an unmatched edge a -> b
+    costs c(a, b), a matched one b -> sigma^-1(b) costs -c.  Returns (pi_row, ok);
+    ok is False if a negative cycle exists (the matching is not optimal)."""
+    n = sigma.shape[0]
+    pi_row = np.zeros(n)
+    pi_col = np.full(n, np.inf)
+    for _ in range(2 * n + 2):
+        changed = False
+        for a in range(n):
+            da = pi_row[a]
+            for q in range(indptr[a], indptr[a + 1]):
+                b = indices[q]
+                if b == sigma[a]:
+                    continue
+                d = da + cost[q]
+                if d < pi_col[b]:
+                    pi_col[b] = d
+        for a in range(n):
+            d = pi_col[sigma[a]] - c_m[a]
+            if d < pi_row[a]:
+                pi_row[a] = d
+                changed = True
+        if not changed:
+            return pi_row, True
+    return pi_row, False
 
 
 def pairing_cost(x0, x1, sigma) -> float:

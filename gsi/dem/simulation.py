@@ -759,8 +759,8 @@ class Simulation:
             Delta t_c^max (s): a contact longer than this is logged as several rows
             (Algorithm 2 of the seed); a multiple of every dt. Default: never split.
         capacity : int, optional
-            Rows to reserve (default 4 x the contacts the buffers first hold); the log
-            grows as needed.
+            Rows to reserve at first (default 32 per particle); the log grows as
+            needed.
 
         The simulation switches to the logging variant of its engine (compiled once per
         law combination, then cached); trajectories are the same bit for bit.
@@ -785,9 +785,8 @@ class Simulation:
                 raise GsiInputError(
                     f"contact_log.dt_split = {dt_split}: must be a positive multiple of "
                     f"every x dt = {per:g} s (e.g. {max(split, 1) * per:g} s)")
-        cap = int(capacity) if capacity else 0
         n_cap = 8 * self.n + 64
-        self._log = clog.empty_log_state(n_cap, max(cap, 4 * n_cap))
+        self._log = clog.empty_log_state(n_cap, int(capacity) if capacity else 4 * n_cap)
         c = self._log.ctrl
         c[clog.C_EVERY] = every
         c[clog.C_SPLIT] = split
