@@ -18,8 +18,8 @@ centrifuging; with R = 0.30 m those are Fr = 0.0054 and 121).
 
 Smaller drums (:func:`drum_geometry`) keep the shape (L = 2 R), the fill and Fr: for N
 particles of the same size, R scales by lambda = (N/80,000)^(1/3) and the period by
-sqrt(lambda) (omega^2 R fixed).  The CI drum, 5,000 particles, is R = 0.119 m turning
-once in 3.15 s.
+sqrt(lambda) (omega^2 R fixed).  The CI drum, 5,000 particles, is R = 0.1191 m turning
+once in 3.1498 s.
 
 Regimes (:func:`regime`) after Mellmann (2001), Powder Technol. 118, 251-270, whose
 ranges overlap; here split at Fr = 1e-4 (slumping/rolling), 1e-2 (rolling/cascading),
@@ -109,23 +109,26 @@ REFERENCE = DrumGeometry(particles=80_000, radius=0.30, length=0.60, steps_per_t
 
 def drum_geometry(particles: int) -> DrumGeometry:
     """The drum of the family holding ``particles`` spheres of r = 5 mm at the reference
-    fill and Froude number (R, L by lambda = (N/80,000)^(1/3), the period by sqrt(lambda),
-    rounded to whole DEM steps)."""
+    fill and Froude number (R, L by lambda = (N/80,000)^(1/3), rounded to 0.1 mm; the
+    period by sqrt(lambda), rounded to whole DEM steps; Fr within 0.1 % of the
+    reference)."""
     if not (isinstance(particles, (int, np.integer)) and 50 <= particles <= 2_000_000):
         raise GsiInputError(f"particles = {particles}: must be an integer in [50, 2e6]")
     lam = (particles / REFERENCE.particles) ** (1.0 / 3.0)
     steps = int(round(REFERENCE.steps_per_turn * math.sqrt(lam)))
-    return DrumGeometry(particles=int(particles), radius=REFERENCE.radius * lam,
-                        length=REFERENCE.length * lam, steps_per_turn=steps)
+    return DrumGeometry(particles=int(particles), radius=round(REFERENCE.radius * lam, 4),
+                        length=round(REFERENCE.length * lam, 4), steps_per_turn=steps)
 
 
 def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | None = None,
-              heat: str = "area", seed: int = 3, facets: int | None = None):
+              heat: str = "area", seed: int = 3, facets: int | None = None,
+              extrapolation: bool = False, spin_up: float = 1.0, period_turns: float = 1.0,
+              periods: int = 6, every: int = 10, dt_split: float = 0.01,
+              name: str | None = None):
     """The drum as a :class:`gsi.case.Case`: materials of seed 003 Tables 3-4, a closed
     ``drum`` wall (adiabatic) at rest for ``settle`` seconds and then turning once per
     ``geometry.period``, and a lattice fill of ``geometry.particles`` spheres from the
-    bottom of the drum (at 293.15 K; :mod:`gsi.extrapolation` sets the hot and cold
-    halves when the drum starts).
+    bottom of the drum (at 293.15 K).
 
     Parameters
     ----------
@@ -133,13 +136,22 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
     settle : float
         Time (s) the drum stands still while the fill settles.
     duration : float, optional
-        ``run.duration`` (s), default ``settle`` + one turn.
+        ``run.duration`` (s); default ``settle`` + one turn, or with ``extrapolation``
+        the end of its comparison.
     heat : str
         ``dem.heat`` ("area" as the paper, LIGGGHTS' model).
     seed : int
     facets : int, optional
         Vertices around the drum axis (default: triangles about 2 particle radii wide,
         at least 48).
+    extrapolation : bool
+        Add the ``[extrapolation]`` table of the paper's study: at ``settle`` the left
+        half (x < 0) at :data:`T_HOT` and the right half at :data:`T_COLD`, ``spin_up``
+        turns, then one period of ``period_turns`` turns logged (sampling ``every``,
+        ``dt_split`` s) and extrapolated over ``periods`` periods, compared with the
+        DEM run on.
+    name : str, optional
+        ``case.name`` (default ``drum_<N>``).
     """
     from gsi.case import (Case, CaseInfo, Dem, Material, Output, ParticleSource, Region,
                           Run, Size, Wall)
@@ -150,30 +162,42 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
         facets = max(48, int(math.ceil(2 * math.pi * R / (2.5 * r))))
     grain = Material(E=1.0e7, nu=0.3, rho=2500.0, e=0.2, mu=0.3, mu_r=0.002, k=100.0, cp=840.0)
     wall = Material(E=1.0e7, nu=0.3, rho=2500.0, e=0.2, mu=0.5, mu_r=0.002, k=100.0, cp=840.0)
-    margin = 0.05 * R + 4 * r
+    margin = round(0.05 * R + 4 * r, 3)
     fill = ParticleSource(
         name="grains", material="grain", fill="lattice", count=geometry.particles,
         size=Size(kind="single", radius=r),
         region=Region(kind="cylinder", centre=(0.0, 0.5 * r, 0.0), axis=(0.0, 1.0, 0.0),
-                      radius=R - 0.2 * r, length=L - r))
+                      radius=round(R - 0.2 * r, 6), length=round(L - r, 6)))
+    xp = None
+    end = settle + geometry.period
+    if extrapolation:
+        from gsi.case.extrapolation import Extrapolation, Halves
+        steps = int(round(period_turns * geometry.steps_per_turn))
+        start = round(settle + round(spin_up * geometry.steps_per_turn) * DT, 10)
+        xp = Extrapolation(start=start, period=round(steps * DT, 10), periods=periods,
+                           every=every, dt_split=dt_split, compare=True, cells=200,
+                           halves=Halves(t=settle, axis="x", at=0.0, below=T_HOT,
+                                         above=T_COLD))
+        end = xp.end()
     return Case(
-        case=CaseInfo(name=f"drum_{geometry.particles}",
+        case=CaseInfo(name=name or f"drum_{geometry.particles}",
                       description=f"seed-003 drum, {geometry.particles} spheres of r = 5 mm, "
                                   f"R = {R:.4g} m, {geometry.period:.4g} s per turn "
                                   f"(Fr = {geometry.froude:.3g}, {geometry.regime})"),
-        run=Run(duration=settle + geometry.period if duration is None else duration, dt=DT,
-                seed=seed,
+        run=Run(duration=end if duration is None else duration, dt=DT, seed=seed,
                 progress=False),
         dem=Dem(contact="hertz", rolling=True, heat=heat, gravity=(0.0, 0.0, -G),
-                domain_lo=(-R - margin, -margin, -R - margin),
-                domain_hi=(R + margin, L + margin, R + margin)),
+                domain_lo=(round(-R - margin, 6), -margin, round(-R - margin, 6)),
+                domain_hi=(round(R + margin, 6), round(L + margin, 6), round(R + margin, 6))),
         materials={"grain": grain, "drum_wall": wall},
         pairs=[Pair(materials=("grain", "drum_wall"), e=0.2, mu=0.5, mu_r=0.002)],
         particles=[fill],
         walls=[Wall(kind="drum", name="drum", material="drum_wall", centre=(0.0, 0.0, 0.0),
                     axis=(0.0, 1.0, 0.0), radius=R, length=L, facets=facets,
-                    motion=Motion.schedule([dict(t=settle, rpm=geometry.rpm)]))],
-        output=Output(interval=geometry.period, pictures=False))
+                    motion=Motion.schedule([dict(t=settle, rpm=round(geometry.rpm, 6))]))],
+        output=Output(interval=geometry.period if xp is None else xp.period, pictures=False,
+                      color_by="temperature", view="+y"),
+        extrapolation=xp)
 
 
 def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0,

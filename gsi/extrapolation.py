@@ -46,7 +46,8 @@ from gsi.errors import GsiInputError
 from gsi.jit import njit
 
 __all__ = ["pair_particles", "pairing_cost", "Replay", "voronoi_seeds", "cell_means",
-           "cell_error", "energy_transfer_error", "compare_with_dem", "DENSE_PAIRING_MAX"]
+           "cell_error", "energy_transfer_error", "period_errors", "compare_with_dem",
+           "CaseExtrapolation", "DENSE_PAIRING_MAX"]
 
 #: up to this many particles the pairing solves the dense assignment problem (8 N^2
 #: bytes of distances: 0.8 GB at 10,000)
@@ -391,6 +392,23 @@ def energy_transfer_error(T_dem_n, T_dem_next, T_ext_n, T_ext_next):
     return (dem - ext) / dem
 
 
+def period_errors(log, res, T_dem, x_dem, seeds, hot):
+    """The errors at t_2 ... t_{P+1} of a replay ``res`` (:meth:`Replay.run` with
+    positions) against the DEM's ``T_dem``, ``x_dem`` (P + 1, N, ...) from t1 (log
+    order): eq. 9 (``eps_abs`` K, ``eps_rel``), eq. 10 (``energy_error``), and the drift
+    of sum m c_p T of the replay relative to t1 (``energy_drift``, P + 1 values)."""
+    eps_abs, eps_rel, eps_e = [], [], []
+    for n in range(1, len(T_dem)):
+        ea, er, _ = cell_error(seeds, x_dem[n], T_dem[n], res["x"][n], res["T"][n], hot=hot)
+        eps_abs.append(ea)
+        eps_rel.append(er)
+        eps_e.append(energy_transfer_error(T_dem[n - 1], T_dem[n], res["T"][n - 1],
+                                           res["T"][n]))
+    E = res["T"] @ log.heat_capacity
+    return dict(eps_abs=np.array(eps_abs), eps_rel=np.array(eps_rel),
+                energy_error=np.array(eps_e), energy_drift=np.abs(E - E[0]) / abs(E[0]))
+
+
 def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=None,
                      cells=200, seed=0, log_dir=None, say=None):
     """Extrapolate from one logged period of ``sim`` and compare with its own full DEM.
@@ -415,7 +433,8 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
         per period, ``energy_drift``); ``runs``: per sampling a dict with ``every``,
         ``dt_split``, ``log`` (the :class:`ContactLog`), ``log_seconds`` (the DEM period
         with the log on), ``file_bytes``, ``file_seconds``, ``pairing_seconds``,
-        ``replay_seconds`` (per period), ``T``, ``eps_abs``, ``eps_rel``,
+        ``replay_setup_seconds`` (once), ``replay_seconds`` (per period), ``T``, ``x``,
+        ``eps_abs``, ``eps_rel``,
         ``energy_error`` (eq. 10), ``energy_drift``, ``n_substepped``,
         ``max_stability_ratio``, ``same_t1``.
     """
@@ -462,22 +481,210 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
             run["file_seconds"] = time.perf_counter() - t
         rep = Replay(log)
         res = rep.run(periods, positions=True)
-        run.update(pairing_seconds=rep.pairing_seconds,
-                   replay_seconds=(res["seconds"] + rep.setup_seconds) / periods,
+        run.update(pairing_seconds=rep.pairing_seconds, replay_setup_seconds=rep.setup_seconds,
+                   replay_seconds=res["seconds"] / periods,
                    n_substepped=rep.n_substepped, max_stability_ratio=rep.max_stability_ratio,
                    T=res["T"], x=res["x"], n_rows=rep.n_rows)
-        eps_abs, eps_rel, eps_e = [], [], []
-        for n in range(1, periods + 1):
-            ea, er, _ = cell_error(seeds, dem["x"][n], dem["T"][n], res["x"][n], res["T"][n],
-                                   hot=hot_log)
-            eps_abs.append(ea)
-            eps_rel.append(er)
-            eps_e.append(energy_transfer_error(dem["T"][n - 1], dem["T"][n], res["T"][n - 1],
-                                               res["T"][n]))
-        E = res["T"] @ log.heat_capacity
-        run.update(eps_abs=np.array(eps_abs), eps_rel=np.array(eps_rel),
-                   energy_error=np.array(eps_e), energy_drift=np.abs(E - E[0]) / abs(E[0]))
+        run.update(period_errors(log, res, dem["T"], dem["x"], seeds, hot_log))
         runs.append(run)
-        say(f"every = {every}: eps_abs max {max(eps_abs):.3g} K, eps_rel max "
-            f"{np.nanmax(eps_rel):.3g}, eq. 10 max |{np.max(np.abs(eps_e)):.3g}|")
+        say(f"every = {every}: eps_abs max {run['eps_abs'].max():.3g} K, eps_rel max "
+            f"{np.nanmax(run['eps_rel']):.3g}, eq. 10 max |{np.abs(run['energy_error']).max():.3g}|")
     return {"dem": dem, "runs": runs, "seeds": seeds}
+
+
+class CaseExtrapolation:
+    """The ``[extrapolation]`` table of a case, run by :class:`gsi.runner.Runner`.
+
+    Parameters
+    ----------
+    spec : gsi.case.extrapolation.Extrapolation
+    dt : float
+        DEM step (s).
+    out : pathlib.Path
+        Output directory (``contact_log.npz``, ``extrapolation.csv``, pictures).
+    """
+
+    def __init__(self, spec, *, dt, out):
+        self.spec = spec
+        self.out = out
+        self.K = int(round(spec.period / dt))
+        self.k_halves = None if spec.halves is None else int(round(spec.halves.t / dt))
+        self.k0 = int(round(spec.start / dt))
+        self.k1 = self.k0 + self.K
+        self.steps = ([] if self.k_halves is None else [self.k_halves]) + [self.k0, self.k1]
+        if spec.compare:
+            self.steps += [self.k1 + p * self.K for p in range(1, spec.periods + 1)]
+        self.hot = None
+        self.log = None
+        self.res = None
+        self.dem_T, self.dem_x = [], []
+        self.t0_state = None
+        self.times = {}
+
+    def at_step(self, k, sim, say=print):
+        """Act at DEM step ``k`` (call after every chunk; only event steps do anything)."""
+        s = self.spec
+        if k == self.k_halves:
+            h = s.halves
+            d = "xyz".index(h.axis)
+            below = sim.x[:, d] < h.at
+            sim.T[:] = np.where(below, h.below, h.above)
+            self.hot = np.zeros(int(sim.ids.max()) + 1, bool)
+            self.hot[sim.ids] = below if h.below >= h.above else ~below
+        if k == self.k0:
+            order = np.argsort(sim.ids, kind="stable")
+            self.t0_state = (sim.x[order].copy(), sim.T[order].copy())
+            sim.start_contact_log(every=s.every, dt_split=s.dt_split)
+            self.times["log_start"] = time.perf_counter()
+        if k == self.k1:
+            self.log = sim.stop_contact_log()
+            t = time.perf_counter()
+            self.times["collision_file_s"] = t - self.times.pop("log_start")
+            self.times["file_bytes"] = self.log.save(self.out / "contact_log.npz")
+            rep = Replay(self.log)
+            self.res = rep.run(s.periods, positions=True)
+            self.times.update(pairing_s=rep.pairing_seconds, replay_setup_s=rep.setup_seconds,
+                              extrap_s_per_period=self.res["seconds"] / s.periods,
+                              rows=rep.n_rows)
+            say(f"extrapolation: {self.log.n_collisions} collisions logged "
+                f"({self.log.bytes_per_collision():.1f} bytes each), {s.periods} periods "
+                f"extrapolated in {self.res['seconds']:.3g} s")
+            self.times["dem_start"] = time.perf_counter()
+        if s.compare and k >= self.k1 and (k - self.k1) % self.K == 0 and \
+                len(self.dem_T) <= s.periods and self.log is not None:
+            rows = sim.index(self.log.ids)
+            self.dem_T.append(sim.T[rows].copy())
+            self.dem_x.append(sim.x[rows].copy())
+            if len(self.dem_T) == s.periods + 1:
+                self.times["dem_s_per_period"] = \
+                    (time.perf_counter() - self.times.pop("dem_start")) / s.periods
+
+    def finish(self, name="case"):
+        """Write ``extrapolation.csv`` and the pictures; return the summary numbers."""
+        s, log, res = self.spec, self.log, self.res
+        if log is None:
+            return {}
+        n = s.periods
+        hot = None if self.hot is None else self.hot[log.ids]
+        full = s.compare and len(self.dem_T) == n + 1
+        err = {}
+        if full:
+            seeds = voronoi_seeds(log.x1, min(s.cells, log.n_particles), seed=0)
+            err = period_errors(log, res, np.array(self.dem_T), np.array(self.dem_x), seeds,
+                                hot)
+            self._seeds = seeds
+        cols = {"time_s": res["time"]}
+        if hot is not None:
+            cols["T_hot_extra"] = res["T"][:, hot].mean(1)
+            cols["T_cold_extra"] = res["T"][:, ~hot].mean(1)
+            if full:
+                D = np.array(self.dem_T)
+                cols["T_hot_dem"] = D[:, hot].mean(1)
+                cols["T_cold_dem"] = D[:, ~hot].mean(1)
+        cols["T_mean_extra"] = res["T"] @ log.heat_capacity / log.heat_capacity.sum()
+        if full:
+            cols["T_mean_dem"] = np.array(self.dem_T) @ log.heat_capacity \
+                / log.heat_capacity.sum()
+            for key in ("eps_abs", "eps_rel", "energy_error"):
+                cols[key] = np.concatenate([[np.nan], err[key]])
+            cols["energy_drift"] = err["energy_drift"]
+        with open(self.out / "extrapolation.csv", "w") as f:
+            f.write(",".join(cols) + "\n")
+            for r in range(n + 1):
+                f.write(",".join(f"{cols[c][r]:.17g}" for c in cols) + "\n")
+        summary = {"extrap_collisions": log.n_collisions,
+                   "extrap_bytes_per_collision": round(log.bytes_per_collision(), 2),
+                   "extrap_s_per_period": self.times["extrap_s_per_period"],
+                   "pairing_s": self.times["pairing_s"],
+                   "replay_setup_s": self.times["replay_setup_s"],
+                   "collision_file_s": self.times["collision_file_s"]}
+        if full:
+            summary.update(dem_s_per_period=self.times["dem_s_per_period"],
+                           speedup_per_period=self.times["dem_s_per_period"]
+                           / self.times["extrap_s_per_period"],
+                           eps_abs_max=float(err["eps_abs"].max()),
+                           eps_rel_max=float(np.nanmax(err["eps_rel"])),
+                           energy_err_max=float(np.abs(err["energy_error"]).max()),
+                           energy_drift_max=float(err["energy_drift"].max()))
+        self.cols = cols
+        self.files = [self.out / "extrapolation.csv", self.out / "contact_log.npz"]
+        return summary
+
+    def pictures(self, name="case", view="iso"):
+        """The temperature fields at t0, t1 and the last t_n (full DEM and extrapolated,
+        projected along the axis of ``view`` -- "+y" looks along y -- or, for "iso", the
+        axis the bed spreads least over), the group means against time, and the
+        Voronoi-cell error map at the last t_n; returns the files."""
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        log, res, cols = self.log, self.res, self.cols
+        if log is None:
+            return []
+        full = len(self.dem_T) == self.spec.periods + 1
+        x0, T0 = self.t0_state
+        drop = "xyz".index(view[1]) if view[0] in "+-" else int(np.argmin(np.ptp(log.x1, 0)))
+        u, v = [d for d in range(3) if d != drop]
+        files = []
+        last = self.spec.periods
+        lo = min(T0.min(), log.T1.min())
+        hi = max(T0.max(), log.T1.max())
+        panels = [("full DEM, t0", x0, T0), ("full DEM, t1", log.x1, log.T1)]
+        if full:
+            panels.append((f"full DEM, t{last + 1}", self.dem_x[last], self.dem_T[last]))
+        panels += [("extrapolated, t0 (= DEM)", x0, T0), ("extrapolated, t1 (= DEM)", log.x1,
+                                                          log.T1),
+                   (f"extrapolated, t{last + 1}", res["x"][last], res["T"][last])]
+        ncol = 3
+        fig, axes = plt.subplots(2 if full else 1, ncol, figsize=(4 * ncol, 3.8 * (2 if full
+                                                                                   else 1)),
+                                 squeeze=False)
+        if not full:
+            panels = panels[2:]
+        for ax, (title, x, T) in zip(axes.ravel(), panels):
+            sc = ax.scatter(x[:, u], x[:, v], c=T, s=6, cmap="coolwarm", vmin=lo, vmax=hi)
+            ax.set_title(title, fontsize=9)
+            ax.set_aspect("equal")
+            ax.set_xticks([])
+            ax.set_yticks([])
+        fig.colorbar(sc, ax=axes.ravel().tolist(), shrink=0.8, label="T (K)")
+        fig.savefig(self.out / "extrapolation_fields.png", dpi=90)
+        plt.close(fig)
+        files.append(self.out / "extrapolation_fields.png")
+        if "T_hot_extra" in cols:
+            fig, ax = plt.subplots(figsize=(6, 4))
+            t = cols["time_s"]
+            ax.plot(t, cols["T_hot_extra"], "o--", color="tab:red", label="hot, extrapolated")
+            ax.plot(t, cols["T_cold_extra"], "o--", color="tab:blue", label="cold, extrapolated")
+            if "T_hot_dem" in cols:
+                ax.plot(t, cols["T_hot_dem"], "-", color="tab:red", label="hot, full DEM")
+                ax.plot(t, cols["T_cold_dem"], "-", color="tab:blue", label="cold, full DEM")
+            ax.set_xlabel("time (s)")
+            ax.set_ylabel("mean temperature (K)")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=8)
+            ax.set_title(f"{name}: mean temperature of the initially hot and cold halves",
+                         fontsize=9)
+            fig.tight_layout()
+            fig.savefig(self.out / "extrapolation_means.png", dpi=90)
+            plt.close(fig)
+            files.append(self.out / "extrapolation_means.png")
+        if full:
+            seeds = self._seeds
+            m_dem, c_dem = cell_means(seeds, self.dem_x[last], self.dem_T[last])
+            m_ext, c_ext = cell_means(seeds, res["x"][last], res["T"][last])
+            ok = (c_dem > 0) & (c_ext > 0)
+            fig, ax = plt.subplots(figsize=(5.5, 4.5))
+            ax.scatter(log.x1[:, u], log.x1[:, v], s=3, color="0.85")
+            sc = ax.scatter(seeds[ok, u], seeds[ok, v], c=np.abs(m_dem - m_ext)[ok], s=40,
+                            cmap="viridis", edgecolors="k", linewidths=0.3)
+            fig.colorbar(sc, ax=ax, label="|mean T_DEM - mean T_extra| (K)")
+            ax.set_aspect("equal")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            ax.set_title(f"eq. 9 per Voronoi cell at t{last + 1} ({ok.sum()} cells, "
+                         f"seeds shown)", fontsize=9)
+            fig.savefig(self.out / "extrapolation_cells.png", dpi=90)
+            plt.close(fig)
+            files.append(self.out / "extrapolation_cells.png")
+        return files
