@@ -15,6 +15,9 @@ Usage::
                      velocity=(0, 0, -1), max_count=5000)
     sim.step(1000)
     sim.time, sim.n, sim.kinetic_energy(), sim.contact_count(), sim.n_lost
+    sim.start_contact_log(every=10, dt_split=1e-3)   # every contact from now ...
+    sim.step(5000)
+    log = sim.stop_contact_log()                     # ... to now (gsi.dem.contact_log)
 
 Particles are addressed by *id* (stable, returned by ``add_particles``); their row in
 the state arrays (``sim.x``, ``sim.v``, ... views of the first ``n`` rows) can change
@@ -763,7 +766,8 @@ class Simulation:
             needed.
 
         The simulation switches to the logging variant of its engine (compiled once per
-        law combination, then cached); trajectories are the same bit for bit.
+        law combination, then cached); trajectories are the same bit for bit.  The log
+        is not part of :meth:`state` (a checkpoint taken while logging does not hold it).
         """
         if self.contact_logging:
             raise GsiInputError("start_contact_log: a contact log is already running; call "
@@ -920,6 +924,9 @@ class Simulation:
         """Restore :meth:`state` into a simulation built the same way (same materials,
         planes, mesh walls and inserters, in the same order). Nothing is recomputed:
         the next :meth:`step` continues exactly where the saved run stood."""
+        if self.contact_logging:
+            raise GsiInputError("set_state: a contact log is running; stop_contact_log() "
+                                "first (the log is not part of the state)")
         n, step_count, n_lost, next_id, n_rebuilds, npl, S, n_ins = (
             int(v) for v in d["counters"])
         if (npl, S, n_ins, len(self.mesh_state.x), len(self.mesh_state.tri)) != (

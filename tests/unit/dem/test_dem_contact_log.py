@@ -185,9 +185,12 @@ def test_bad_calls():
         sim.start_contact_log(every=1, dt_split=2.5 * DT)
     with pytest.raises(GsiInputError, match="no contact log is running"):
         sim.stop_contact_log()
+    state = sim.state()
     sim.start_contact_log(every=1)
     with pytest.raises(GsiInputError, match="already running"):
         sim.start_contact_log(every=1)
+    with pytest.raises(GsiInputError, match="set_state: a contact log is running"):
+        sim.set_state(state)
     sim.step(3)
     sim.add_particles([[0.0, 0.0, 0.1]], R, material="grain")
     sim.step(3)
