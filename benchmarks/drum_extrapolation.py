@@ -10,8 +10,9 @@ replayed for ``--periods`` periods, while the same DEM continues as the referenc
 Prints the set-up (size, Froude number and regime), the DEM seconds per period, and per
 sampling the collision-file seconds (the logged DEM period), its size and bytes per
 collision, the pairing seconds, the replay seconds per period, the speed-up per period
-and the errors per period (eq. 9 absolute and relative on 200 Voronoi cells, eq. 10,
-the drift of sum m c_p T); the last line holds ``particles= dem_s_per_period=
+and the errors per period (eq. 9 absolute and relative on 200 Voronoi cells, and on
+N/400 cells -- 400 particles per cell, as the seed's 80,000 in 200 --, eq. 10, the
+drift of sum m c_p T); the last line holds ``particles= dem_s_per_period=
 extrap_s_per_period= speedup_per_period= eps_abs_max= eps_rel_max= energy_err_max=``
 (the sampling with the largest every; the error maxima over all samplings and periods)
 and the other figures.
@@ -21,7 +22,9 @@ Usage::
     python benchmarks/drum_extrapolation.py [--quick] [--particles N] [--periods P]
         [--period-turns F] [--every 1,10] [--dt-split S] [--threads T] [--out DIR]
 
-``--quick`` is the CI size, 5,000 particles.
+``--quick`` is the CI size, 5,000 particles.  Times are wall-clock seconds and, as the
+machine may be shared, process CPU seconds (with ``--threads 1`` the CPU time of the one
+computing thread).
 """
 import argparse
 import os
@@ -51,7 +54,7 @@ def main(argv=None):
     if args.threads:
         numba.set_num_threads(args.threads)
     from gsi.drum import drum_geometry, prepare
-    from gsi.extrapolation import compare_with_dem
+    from gsi.extrapolation import compare_with_dem, period_errors, voronoi_seeds
     n = args.particles or (5000 if args.quick else 80_000)
     g = drum_geometry(n)
     print(f"drum: {n} particles, R = {g.radius:.4g} m, L = {g.length:.4g} m, "
@@ -70,12 +73,13 @@ def main(argv=None):
                              samplings=samplings, hot=hot, log_dir=out,
                              say=lambda m: print("  " + m, flush=True))
     dem = r["dem"]
-    print(f"DEM: {dem['seconds']:.2f} s per period ({steps} steps); sum m c_p T drift "
-          f"{dem['energy_drift'].max():.2e}")
+    print(f"DEM: {dem['seconds']:.2f} s per period ({dem['cpu']:.2f} s CPU; {steps} "
+          f"steps); sum m c_p T drift {dem['energy_drift'].max():.2e}")
     last = None
     for run in r["runs"]:
         log = run["log"]
         speed = dem["seconds"] / run["replay_seconds"]
+        speed_cpu = dem["cpu"] / run["replay_cpu"]
         print(f"n = {run['every']}, dt_split = {run['dt_split']} s: collision file "
               f"{run['log_seconds']:.2f} s (the logged DEM period), "
               f"{run['file_bytes'] / 1e6:.2f} MB ({log.n_collisions} rows, "
@@ -84,22 +88,35 @@ def main(argv=None):
               f"set-up {run['replay_setup_seconds']:.3f} s; "
               f"replay {run['replay_seconds']:.4f} s per period ({run['n_rows']} rows, "
               f"max m H/C {run['max_stability_ratio']:.2g}, {run['n_substepped']} sub-stepped); "
-              f"speed-up {speed:.0f} per period; same t1 as the first run: {run['same_t1']}")
+              f"speed-up {speed:.0f} per period (CPU: DEM {dem['cpu']:.2f} s, replay "
+              f"{run['replay_cpu']:.4f} s, {speed_cpu:.0f}; logged period "
+              f"{run['log_cpu']:.2f} s CPU); same t1 as the first run: {run['same_t1']}")
+        # the seed's cells held 80,000/200 = 400 particles: the same count per cell here
+        cells400 = max(1, n // 400)
+        seeds = voronoi_seeds(log.x1, cells400, seed=0)
+        e400 = period_errors(log, {"T": run["T"], "x": run["x"]}, dem["T"], dem["x"], seeds,
+                             hot[log.ids])
+        run["eps_abs_400"], run["eps_rel_400"] = e400["eps_abs"], e400["eps_rel"]
         for k in range(args.periods):
             print(f"  t{k + 2}: eps_abs {run['eps_abs'][k]:.4f} K, eps_rel "
                   f"{100 * run['eps_rel'][k]:.2f} %, eq. 10 {100 * run['energy_error'][k]:+.2f} %, "
                   f"drift {run['energy_drift'][k + 1]:.1e}; DEM T_hot - T_cold "
-                  f"{abs(dem_gap(dem, hot, log, k + 1)):.3f} K")
-        last = (run, speed)
-    run, speed = last
+                  f"{abs(dem_gap(dem, hot, log, k + 1)):.3f} K; with {cells400} cells of 400 "
+                  f"particles: eps_abs {e400['eps_abs'][k]:.4f} K, eps_rel "
+                  f"{100 * e400['eps_rel'][k]:.2f} %")
+        last = (run, speed, speed_cpu)
+    run, speed, speed_cpu = last
     runs = r["runs"]
     res = dict(
         particles=n, froude=g.froude, regime=g.regime,
         dem_s_per_period=dem["seconds"], extrap_s_per_period=run["replay_seconds"],
-        speedup_per_period=speed,
+        speedup_per_period=speed, dem_cpu_s_per_period=dem["cpu"],
+        extrap_cpu_s_per_period=run["replay_cpu"], speedup_cpu_per_period=speed_cpu,
         eps_abs_max=max(float(x["eps_abs"].max()) for x in runs),
         eps_rel_max=max(float(np.nanmax(x["eps_rel"])) for x in runs),
         energy_err_max=max(float(np.abs(x["energy_error"]).max()) for x in runs),
+        eps_abs_400_max=max(float(x["eps_abs_400"].max()) for x in runs),
+        eps_rel_400_max=max(float(np.nanmax(x["eps_rel_400"])) for x in runs),
         energy_drift_max=max(float(x["energy_drift"].max()) for x in runs),
         pairing_s=run["pairing_seconds"], replay_setup_s=run["replay_setup_seconds"],
         collision_file_s=run["log_seconds"],

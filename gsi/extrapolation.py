@@ -279,6 +279,8 @@ class Replay:
             w = np.repeat(w / s, s)
         self._a, self._b, self._w, self._Tw = a, b, w, Tw
         self.n_rows = len(a)
+        # load (or compile) the kernel now, so that run() times the replay alone
+        _replay_rows(np.zeros(1), a[:0], b[:0], w[:0], Tw[:0], np.ones(1))
         self.setup_seconds = time.perf_counter() - t
 
     def run(self, periods, *, T=None, positions=False):
@@ -432,10 +434,11 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
     -------
     dict
         ``dem``: reference (``T``, ``x`` (periods + 1, N, ...) by log order, ``seconds``
-        per period, ``energy_drift``); ``runs``: per sampling a dict with ``every``,
+        (wall) and ``cpu`` (process CPU time) per period, ``energy_drift``); ``runs``: per sampling a dict with ``every``,
         ``dt_split``, ``log`` (the :class:`ContactLog`), ``log_seconds`` (the DEM period
         with the log on), ``file_bytes``, ``file_seconds``, ``pairing_seconds``,
-        ``replay_setup_seconds`` (once), ``replay_seconds`` (per period), ``T``, ``x``,
+        ``replay_setup_seconds`` (once, with the pairing), ``replay_seconds`` (per
+        period), CPU times ``log_cpu``, ``setup_cpu``, ``replay_cpu``, ``T``, ``x``,
         ``eps_abs``, ``eps_rel``,
         ``energy_error`` (eq. 10), ``energy_drift``, ``n_substepped``,
         ``max_stability_ratio``, ``same_t1``.
@@ -449,12 +452,12 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
     for k, (every, dt_split) in enumerate(samplings):
         if k:
             sim.set_state(state0)
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         sim.start_contact_log(every=every, dt_split=dt_split)
         sim.step(period_steps)
         log = sim.stop_contact_log()
         run = {"every": every, "dt_split": dt_split, "log": log,
-               "log_seconds": time.perf_counter() - t}
+               "log_seconds": time.perf_counter() - t, "log_cpu": time.process_time() - c}
         say(f"logged t0..t1 with every = {every}, dt_split = {dt_split}: "
             f"{log.n_collisions} rows in {run['log_seconds']:.1f} s")
         hot_log = None if hot is None else np.asarray(hot)[log.ids]
@@ -462,7 +465,7 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
             rows = sim.index(log.ids)
             T_dem = [sim.T[rows].copy()]
             x_dem = [sim.x[rows].copy()]
-            t = time.perf_counter()
+            t, c = time.perf_counter(), time.process_time()
             for p in range(periods):
                 sim.step(period_steps)
                 rows = sim.index(log.ids)
@@ -473,6 +476,7 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
             E = np.array([float(C @ T) for T in T_dem])
             dem = {"T": np.array(T_dem), "x": np.array(x_dem),
                    "seconds": (time.perf_counter() - t) / periods,
+                   "cpu": (time.process_time() - c) / periods,
                    "energy_drift": np.abs(E - E[0]) / abs(E[0]), "T1": log.T1}
             seeds = voronoi_seeds(log.x1, cells, seed=seed)
         run["same_t1"] = bool(np.array_equal(log.T1, dem["T1"]))
@@ -481,8 +485,13 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
             t = time.perf_counter()
             run["file_bytes"] = log.save(path)
             run["file_seconds"] = time.perf_counter() - t
+        c = time.process_time()
         rep = Replay(log)
+        c_setup = time.process_time() - c
+        c = time.process_time()
         res = rep.run(periods, positions=True)
+        run["replay_cpu"] = (time.process_time() - c) / periods
+        run["setup_cpu"] = c_setup
         run.update(pairing_seconds=rep.pairing_seconds, replay_setup_seconds=rep.setup_seconds,
                    replay_seconds=res["seconds"] / periods,
                    n_substepped=rep.n_substepped, max_stability_ratio=rep.max_stability_ratio,
