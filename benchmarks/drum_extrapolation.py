@@ -47,7 +47,9 @@ def main(argv=None):
                     help="Delta t_c^max (s), default 0.01 (100 steps)")
     ap.add_argument("--spin-up", type=float, default=1.0, help="turns before t0 (default 1)")
     ap.add_argument("--threads", type=int, default=None, help="numba threads (default all)")
-    ap.add_argument("--out", default=None, help="directory for the collision files")
+    ap.add_argument("--out", default=None,
+                    help="directory for the collision files and reference.npz (the full DEM "
+                         "and the replays at every t_n)")
     args = ap.parse_args(argv)
     import numba
     import numpy as np
@@ -73,6 +75,13 @@ def main(argv=None):
                              samplings=samplings, hot=hot, log_dir=out,
                              say=lambda m: print("  " + m, flush=True))
     dem = r["dem"]
+    if args.out:
+        # the full DEM and the replays at every t_n, for other error measures later
+        arrays = {"dem_T": dem["T"], "dem_x": dem["x"], "hot": hot[r["runs"][0]["log"].ids]}
+        for run in r["runs"]:
+            arrays[f"extra{run['every']}_T"] = run["T"]
+            arrays[f"extra{run['every']}_x"] = run["x"]
+        np.savez(os.path.join(args.out, "reference.npz"), **arrays)
     print(f"DEM: {dem['seconds']:.2f} s per period ({dem['cpu']:.2f} s CPU; {steps} "
           f"steps); sum m c_p T drift {dem['energy_drift'].max():.2e}")
     last = None

@@ -652,9 +652,13 @@ class CaseExtrapolation:
                                  squeeze=False)
         if not full:
             panels = panels[2:]
+        allx = np.vstack([p[1] for p in panels])
+        pad = 0.03 * np.ptp(allx, axis=0)
         for ax, (title, x, T) in zip(axes.ravel(), panels):
             sc = ax.scatter(x[:, u], x[:, v], c=T, s=6, cmap="coolwarm", vmin=lo, vmax=hi)
             ax.set_title(title, fontsize=9)
+            ax.set_xlim(allx[:, u].min() - pad[u], allx[:, u].max() + pad[u])
+            ax.set_ylim(allx[:, v].min() - pad[v], allx[:, v].max() + pad[v])
             ax.set_aspect("equal")
             ax.set_xticks([])
             ax.set_yticks([])
