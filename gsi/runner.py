@@ -9,6 +9,9 @@ DEM advances in chunks between *events*, each at a whole step:
   and heat, steps, and hands its moved, heated wall back (``finish``), then opens the
   next interval (``begin``);
 * a wall motion's schedule event (its time rounded to the nearest step);
+* the steps of an ``[extrapolation]`` (:class:`gsi.extrapolation.CaseExtrapolation`):
+  temperatures set on two halves, the contact log's start t0 and end t1 (then the
+  pairing and the replay), the reference DEM's t_n;
 * a monitor sample, every ``interval`` (default the output interval);
 * an output (particles, walls, structures, progress line, pictures) every
   ``output.interval``;
@@ -274,6 +277,15 @@ class Runner:
                     else self.checkpoint_every)
         if interval > 0:
             self.every["checkpoint"] = max(1, int(round(interval / self.dt)))
+        # the long-time heat extrapolation (gsi.case.extrapolation): its steps are events
+        self.extrapolation = None
+        if case.extrapolation is not None:
+            if self.resume:
+                raise _agreed(GsiInputError(
+                    "resume: a case with [extrapolation] cannot resume (its contact log is "
+                    "not in the checkpoints); run it again"))
+            from gsi.extrapolation import CaseExtrapolation
+            self.extrapolation = CaseExtrapolation(case.extrapolation, dt=self.dt, out=self.out)
         # a schedule event at time t takes effect at the first step boundary at or after t
         # (the wall takes the motion state of the event itself, whatever the round-off)
         self.motion_events = {}
@@ -499,7 +511,9 @@ class Runner:
             self._catch_signals()
             while k < self.n_total:
                 nxt = min([self.n_total] + [(k // e + 1) * e for e in self.every.values()]
-                          + [j for j in self.motion_events if j > k])
+                          + [j for j in self.motion_events if j > k]
+                          + [j for j in (self.extrapolation.steps if self.extrapolation
+                                         else ()) if j > k])
                 exc = None
                 if self.is_root:
                     try:
@@ -515,6 +529,8 @@ class Runner:
                 for w, t_event in self.motion_events.get(k, []):
                     if self.is_root:
                         w.apply_motion(self._handles[w.name], t_event)
+                if self.extrapolation is not None and self.is_root:
+                    self.extrapolation.at_step(k, self.sim, say=self.say)
                 for m in case.monitors:
                     if k % self.every[f"monitor:{m.name}"] == 0 or k == self.n_total:
                         self._sample(m, t)
@@ -703,13 +719,21 @@ class Runner:
             for st in self.structures:
                 files += st.output_files()
             files += self._pictures(monitors)
+            extrap = {}
+            if self.extrapolation is not None:
+                extrap = self.extrapolation.finish(case.case.name)
+                if extrap:
+                    files += self.extrapolation.files
+                    if self.pictures:
+                        files += self.extrapolation.pictures(case.case.name,
+                                                             view=case.output.view)
             res = RunResult(name=case.case.name, time=sim.time, steps=sim.step_count, dt=self.dt,
                             n_particles=int(sim.n), n_lost=int(sim.n_lost),
                             particle_mass=float(sim.mass.sum()),
                             kinetic_energy=sim.kinetic_energy(), wall_load=load, weight=weight,
                             monitors=monitors, structures=structures, summary={},
                             wall_clock=time.perf_counter() - wall0, files=files)
-            res.summary = self._summary(res)
+            res.summary = self._summary(res, extrap)
             if self.checkpoint_seconds:
                 spent = sum(self.checkpoint_seconds)
                 self.say(f"checkpoints: {len(self.checkpoint_seconds)} written in {spent:.3f} s "
@@ -758,8 +782,9 @@ class Runner:
                     files.append(gif)
         return files
 
-    def _summary(self, r: RunResult) -> dict:
-        """Print the closing physics summary; return its key=value numbers."""
+    def _summary(self, r: RunResult, extrap: dict | None = None) -> dict:
+        """Print the closing physics summary; return its key=value numbers (with those of
+        the extrapolation, ``extrap``)."""
         g = np.linalg.norm(r.weight)
         along = float(r.wall_load @ r.weight / g ** 2) if g > 0 else math.nan
         lines = [f"summary of {r.name} at t = {r.time:.4g} s ({r.steps} steps of "
@@ -780,6 +805,10 @@ class Runner:
             for k, v in s.items():
                 if isinstance(v, (int, float)):
                     keys[f"{name}.{k}"] = v
+        if extrap:
+            lines.append("  extrapolation: " + ", ".join(
+                f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in extrap.items()))
+            keys.update(extrap)
         text = "\n".join(lines)
         last = " ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
                         for k, v in keys.items())

@@ -13,6 +13,7 @@ A case file is a set of TOML tables, each of which is one object of this package
     [[thermal_contacts]] ThermalContact heat across the overlap of two structures (R_c)
     [[monitors]]      Monitor         time series to CSV
     [output]          Output          interval, fields, pictures
+    [extrapolation]   Extrapolation   long-time heat extrapolation (seed 003)
     [quick]           (overrides)     keys that replace the case's own with ``--quick``
 
 The TOML is a thin layer: :func:`load_case` hands each table to
@@ -52,10 +53,11 @@ import pathlib
 import tomllib
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Optional
 
 import numpy as np
 
+from gsi.case.extrapolation import Extrapolation
 from gsi.case.materials import Material, Pair
 from gsi.case.monitors import Monitor
 from gsi.case.settings import CaseInfo, Dem, Output, Run
@@ -101,6 +103,8 @@ class Case:
                                                    doc="[[thermal_contacts]] tables")
     monitors: list[Monitor] = param(default_factory=list, doc="[[monitors]] tables")
     output: Output = param(doc="the [output] table")
+    extrapolation: Optional[Extrapolation] = param(
+        None, doc="[extrapolation]: long-time heat extrapolation (gsi.case.extrapolation)")
     quick: dict[str, Any] = param(default_factory=dict,
                                   doc="[quick]: keys replacing the case's own with --quick")
     #: directory of the case file: relative paths (mesh and particle files) resolve here
@@ -287,6 +291,9 @@ class Case:
         dt = self.time_step()
         self._check_streams(dt)
         self._check_radiation(dt)
+        if self.extrapolation is not None:
+            self.extrapolation.check(dt=dt, duration=self.run.duration, thermal=self.thermal,
+                                     structures=len(self.structures))
         n_steps = self.run.duration / dt
         if n_steps > 1e10:
             raise GsiInputError(f"run.duration = {self.run.duration}: {n_steps:.2g} DEM steps "
@@ -320,6 +327,9 @@ class Case:
         dt = self.time_step()
         self._check_streams(dt)
         self._check_radiation(dt)
+        if self.extrapolation is not None:
+            self.extrapolation.check(dt=dt, duration=self.run.duration, thermal=self.thermal,
+                                     structures=len(self.structures))
         if self.output.interval < dt:
             raise GsiInputError(f"output.interval = {self.output.interval}: shorter than the "
                                 f"DEM step {dt:.3g} s")
