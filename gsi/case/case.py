@@ -292,7 +292,7 @@ class Case:
         self._check_streams(dt)
         self._check_radiation(dt)
         if self.extrapolation is not None:
-            self.extrapolation.check(dt=dt, duration=self.run.duration, thermal=self.thermal,
+            self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=len(self.structures))
         n_steps = self.run.duration / dt
         if n_steps > 1e10:
@@ -328,7 +328,7 @@ class Case:
         self._check_streams(dt)
         self._check_radiation(dt)
         if self.extrapolation is not None:
-            self.extrapolation.check(dt=dt, duration=self.run.duration, thermal=self.thermal,
+            self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=len(self.structures))
         if self.output.interval < dt:
             raise GsiInputError(f"output.interval = {self.output.interval}: shorter than the "

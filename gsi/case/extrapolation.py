@@ -70,11 +70,11 @@ class Extrapolation:
         """Simulated time (s) the run must reach: t1, or t1 + periods tau to compare."""
         return self.start + self.period * (1 + (self.periods if self.compare else 0))
 
-    def check(self, *, dt: float, duration: float, thermal: bool, structures: int) -> None:
+    def check(self, *, dt: float, duration: float, heat: str, structures: int) -> None:
         """What can be known before a run (one-line GsiInputError naming the key)."""
-        if not thermal:
-            raise GsiInputError("extrapolation: the particles conduct no heat; set dem.heat "
-                                "= 'area', 'radius' or 'constant'")
+        if heat not in ("area", "radius", "constant"):
+            raise GsiInputError(f"dem.heat = {heat!r}: the extrapolation replays the contacts "
+                                f"of 'area', 'radius' or 'constant' conduction; set one")
         if structures:
             raise GsiInputError("extrapolation: not with [[structures]] (the replay "
                                 "exchanges no heat with an FE wall); remove one of them")

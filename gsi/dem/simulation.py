@@ -822,6 +822,9 @@ class Simulation:
         c[clog.C_SPLIT] = split
         c[clog.C_NEXT] = self.step_count + every
         c[clog.C_START] = self.step_count
+        if self.heat not in clog.SIZE_MODELS:
+            raise GsiInputError(f"contact_log: heat = {self.heat!r} is not logged (the replay "
+                                f"knows the contact sizes of 'area', 'radius' and 'constant')")
         c[clog.C_MODEL] = clog.SIZE_MODELS[self.heat]
         order = np.argsort(self.ids, kind="stable")
         self._log_t0 = dict(t0=self.time, ids=self.ids[order].copy(), x0=self.x[order].copy(),

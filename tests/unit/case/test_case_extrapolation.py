@@ -30,7 +30,8 @@ def test_drum_case_passes_the_checks():
 
 @pytest.mark.parametrize("over,message", [
     ({"run__duration": 3.0}, r"run.duration = 3.0: shorter than t1 \+ periods x period"),
-    ({"dem__heat": "none"}, r"extrapolation: the particles conduct no heat; set dem.heat"),
+    ({"dem__heat": "none"}, r"dem.heat = 'none': the extrapolation replays the contacts"),
+    ({"dem__heat": "pipe", "dem__pipe_length": 0.01}, r"dem.heat = 'pipe': the extrapolation"),
     ({"extrapolation__dt_split": 0.0015}, r"extrapolation.dt_split = 0.0015: must be a "
                                           r"multiple of every x run.dt = 0.001 s"),
     ({"extrapolation__period": 0.005}, r"extrapolation.period = 0.005: shorter than 10 samples"),
