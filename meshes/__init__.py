@@ -20,7 +20,7 @@ import pathlib
 
 from gsi.errors import GsiInputError
 
-from . import box, drum, hopper, membrane, silo
+from . import box, drum, hopper, membrane, shell, silo
 from ._common import StructureMesh
 from .file import load as load_file
 from .file import physical_groups
@@ -32,6 +32,7 @@ BUILDERS = {
     "membrane": membrane.build,
     "hopper": hopper.build,
     "silo": silo.build,
+    "shell": shell.build,
     "drum": drum.build,
     "box": box.build,
 }
@@ -41,6 +42,7 @@ GROUPS = {
     "membrane": list(membrane.NAMES),
     "hopper": list(hopper.NAMES),
     "silo": list(silo.NAMES),
+    "shell": list(shell.NAMES),
     "drum": list(drum.NAMES),
     "box": list(box.FACES),
 }

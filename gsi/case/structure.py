@@ -15,6 +15,8 @@ either name::
     degree = 2
     supports = ["support"]
     contact = { tags = ["contact"], mode = "mechanical" }
+    solver = "auto"                      # direct | iterative | auto (by dof count)
+    petsc = { ksp_rtol = 1e-12 }         # PETSc options of the elasticity solver
 
 Physics (DESIGN.md "Structure (FE) physics", "Coupling"): linear elasticity, static or
 dynamic (Newmark, generalized-alpha), Rayleigh damping C = a0 M + a1 K, clamped supports,
@@ -55,6 +57,7 @@ import numpy as np
 
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
+from gsi.fem.options import AUTO_ITERATIVE_DOFS, SOLVERS, petsc_option_strings
 
 __all__ = ["Structure", "Load", "Convection", "FixedTemperature", "Flux", "Radiation",
            "StructureThermal",
@@ -63,6 +66,8 @@ __all__ = ["Structure", "Load", "Convection", "FixedTemperature", "Flux", "Radia
 Vec3 = tuple[float, ...]
 SCHEMES = ("static", "newmark", "generalized_alpha")
 MODES = ("mechanical", "thermal", "both")
+#: relative tolerance of the iterative static solve behind the period estimate T_1
+PERIOD_RTOL = 1e-6
 
 
 def __getattr__(name):
@@ -161,6 +166,9 @@ class StructureThermal:
     radiation: list[Radiation] = param(default_factory=list,
                                        doc="[[structures.thermal.radiation]] tag, emissivity, "
                                            "T_ambient")
+    petsc: dict[str, Any] = param(default_factory=dict,
+                                  doc="PETSc options of the heat solver without the '-', "
+                                      "e.g. {ksp_rtol = 1e-12}")
 
     def tags_used(self) -> list[tuple[str, str]]:
         return ([(f"thermal.convection[{i}].tag", c.tag) for i, c in enumerate(self.convection)]
@@ -200,8 +208,8 @@ class Structure:
     """One FE structure (see the module docstring for the TOML form and the set-up)."""
 
     name: str = param("structure", doc="output prefix: <name>.xdmf, <name>_coupling.csv, ...")
-    mesh: Optional[str] = param(None, doc="shipped builder: membrane, hopper, silo, drum, box "
-                                "(or give file)")
+    mesh: Optional[str] = param(None, doc="shipped builder: membrane, hopper, silo, shell, drum, "
+                                "box (or give file)")
     file: Optional[str] = param(None, doc="user gmsh .geo or .msh with physical groups, "
                                 "relative to the case file (or give mesh)")
     geometry: dict[str, Any] = param(default_factory=dict,
@@ -234,6 +242,13 @@ class Structure:
     damping_ratio: Optional[float] = param(None, unit="-", check=between(0.0, 1.0),
                                            doc="sets a0 = 2 zeta omega_1 instead of rayleigh[0]")
     self_weight: bool = param(False, doc="load the structure with its own weight (gravity)")
+    solver: str = param("auto", check=one_of(*SOLVERS),
+                        doc="linear solver: direct (MUMPS, factorized once), iterative (CG + "
+                            "algebraic multigrid, built once) or auto (iterative from "
+                            f"{AUTO_ITERATIVE_DOFS['elasticity']} dofs)")
+    petsc: dict[str, Any] = param(default_factory=dict,
+                                  doc="PETSc options of the elasticity solver without the '-', "
+                                      "e.g. {ksp_rtol = 1e-12} (heat: thermal.petsc)")
     supports: list[str] = param(default_factory=lambda: ["support"],
                                 doc="surface tags clamped (u = 0)")
     loads: list[Load] = param(default_factory=list, doc="[[structures.loads]] tag, traction (Pa)")
@@ -274,6 +289,12 @@ class Structure:
                                 "damping_ratio or rayleigh[0] (a0), not both")
         if not self.contact.tags:
             raise GsiInputError(f"{key}.contact.tags = []: give at least one surface tag")
+        petsc_option_strings(self.petsc, f"{key}.petsc")
+        if self.petsc and not self.has_elasticity:
+            raise GsiInputError(f"{key}.petsc: contact.mode = 'thermal' has no elasticity; give "
+                                f"the heat solver's options as {key}.thermal.petsc")
+        if self.thermal is not None:
+            petsc_option_strings(self.thermal.petsc, f"{key}.thermal.petsc")
         mech = self.contact.mode in ("mechanical", "both")
         if mech and not self.supports:
             raise GsiInputError(f"{key}.supports = []: give at least one clamped surface tag")
@@ -488,7 +509,12 @@ class Structure:
         el = None
         T_1, a0 = math.nan, self.rayleigh[0]
         if self.has_elasticity:
-            static = Elasticity(sm, mat, degree=self.degree, T_ref=T_ref)
+            solve = dict(solver=self.solver, petsc_options=self.petsc,
+                         options_key=f"{self.key}.petsc")
+            # the period estimate is a Rayleigh quotient, second order in the error of its
+            # trial shape: a loose iterative tolerance does (unless the problem is the run's)
+            loose = dict(rtol=PERIOD_RTOL) if self.scheme != "static" else {}
+            static = Elasticity(sm, mat, degree=self.degree, T_ref=T_ref, **solve, **loose)
             for tag in self.supports:
                 static.clamp(tag)
             direction = g if np.any(g) else (0.0, 0.0, -1.0)
@@ -503,7 +529,8 @@ class Structure:
             else:
                 el = Elasticity(sm, mat, degree=self.degree, scheme=self.scheme,
                                 dt=n_sub * dt_dem, rho_inf=self.rho_inf,
-                                rayleigh=(a0, self.rayleigh[1]), gravity=body, T_ref=T_ref)
+                                rayleigh=(a0, self.rayleigh[1]), gravity=body, T_ref=T_ref,
+                                **solve)
                 for tag in self.supports:
                     el.clamp(tag)
             for ld in self.loads:
@@ -516,7 +543,8 @@ class Structure:
         if self.has_heat:
             heat = Heat(sm, dataclasses.replace(mat, c=mat.c / heat_scale), dt=n_sub * dt_dem,
                         theta=th.theta, T_initial=T_init,
-                        theta_key=f"{self.key}.thermal.theta")
+                        theta_key=f"{self.key}.thermal.theta", solver=self.solver,
+                        petsc_options=th.petsc, options_key=f"{self.key}.thermal.petsc")
             for cv in th.convection:
                 heat.set_convection(cv.tag, cv.h, cv.T_ambient)
             for fx in th.fixed:

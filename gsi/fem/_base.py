@@ -1,4 +1,4 @@
-"""Pieces shared by the FE problems: vertex <-> dof maps, nodal loads, the factor-once solver.
+"""Pieces shared by the FE problems: vertex <-> dof maps, nodal loads, the linear solvers.
 
 Global vertex ids
 -----------------
@@ -6,18 +6,41 @@ gsi names mesh vertices by their *global vertex id*: the index of the node in th
 mesh was built from, i.e. the gmsh node tag minus one for gmsh meshes
 (``mesh.geometry.input_global_indices``). It does not depend on the number of MPI ranks,
 so a load given at a global vertex id lands on the same physical node on 1 or N ranks.
+
+Linear solvers
+--------------
+Every problem solves with one fixed matrix per run (the effective matrix of its time
+scheme), so the expensive part of a solver is built once and re-used every step:
+
+* ``direct``: MUMPS LU (or Cholesky) on one rank, SuperLU_DIST LU on several (for
+  bit-reproducible runs, see :class:`FactorOnceSolver`), factorized once;
+* ``iterative``: conjugate gradients preconditioned by algebraic multigrid, the hierarchy
+  built once (:class:`IterativeSolver`): PETSc's GAMG with the six rigid-body modes as its
+  near-nullspace for elasticity (smoothed aggregation, Vanek, Mandel & Brezina 1996),
+  hypre's BoomerAMG for heat (GAMG where PETSc has no hypre). Every solve starts from the
+  last solution (warm start);
+* ``auto``: iterative from :data:`AUTO_ITERATIVE_DOFS` global dofs on, else direct.
+
+``petsc_options`` (TOML ``[structures.petsc]``) are PETSc options without the leading
+dash, e.g. ``{"ksp_rtol": 1e-12, "pc_gamg_threshold": 0.02}``; they are set under an
+options prefix of their own for each solver (two structures never share options) and
+override gsi's defaults. A key that PETSc did not use, or a value it refused, is a
+one-line GsiInputError naming the key.
 """
 from __future__ import annotations
 
+import itertools
 import time
 
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from gsi.errors import GsiInputError
+from gsi.errors import GsiInputError, GsiRunError
 
 from . import compat
+from .options import (AUTO_ITERATIVE_DOFS, ITERATIVE_DEFAULTS, ITERATIVE_RTOL, SOLVERS,  # noqa: F401
+                      choose_solver, petsc_option_strings)
 
 
 class VertexDofMap:
@@ -105,7 +128,214 @@ class NodalLoads:
         self.values[:] = 0.0
 
 
-class FactorOnceSolver:
+_prefix_counter = itertools.count()
+
+
+def _hypre_available() -> bool:
+    pc = PETSc.PC().create(PETSc.COMM_SELF)
+    try:
+        pc.setType("hypre")
+        return True
+    except PETSc.Error:
+        return False
+    finally:
+        pc.destroy()
+
+
+def rigid_body_modes(V, A: PETSc.Mat) -> PETSc.NullSpace:
+    """The six rigid-body modes of a 3D vector space (three translations, three
+    rotations about the centroid), orthonormalized: GAMG's near-nullspace of elasticity."""
+    comm = A.getComm().tompi4py()
+    imap, bs = compat.dof_index_map(V)
+    if bs != 3:
+        raise RuntimeError("rigid_body_modes: needs a 3-component vector space")
+    n = imap.size_local
+    x = compat.dof_coordinates(V)[:n]
+    total = comm.allreduce(np.r_[x.sum(axis=0), n], op=MPI.SUM)
+    x = x - total[:3] / max(total[3], 1.0)
+    basis = [A.createVecLeft() for _ in range(6)]
+    arr = [b.getArray() for b in basis]
+    for a in arr:
+        a[:] = 0.0
+    for c in range(3):
+        arr[c][c::3] = 1.0
+    arr[3][0::3], arr[3][1::3] = -x[:, 1], x[:, 0]
+    arr[4][1::3], arr[4][2::3] = -x[:, 2], x[:, 1]
+    arr[5][0::3], arr[5][2::3] = x[:, 2], -x[:, 0]
+    del arr
+    for i, b in enumerate(basis):            # modified Gram-Schmidt
+        for prev in basis[:i]:
+            b.axpy(-b.dot(prev), prev)
+        b.normalize()
+    return PETSc.NullSpace().create(vectors=basis, comm=A.getComm())
+
+
+class LinearSolver:
+    """A PETSc KSP for one fixed matrix: set up once, then solve every step.
+
+    Parameters
+    ----------
+    A : PETSc.Mat
+        The matrix (assembled, Dirichlet rows and columns replaced by the identity).
+    comm : MPI communicator
+    problem : str
+        "elasticity" or "heat" (names the options prefix).
+    petsc_options : dict, optional
+        PETSc options without the dash (see the module docstring); they override gsi's.
+    options_key : str
+        TOML key of those options, for error messages.
+
+    Attributes
+    ----------
+    kind : str
+        "direct" or "iterative".
+    prefix : str
+        PETSc options prefix of this solver (unique in the process).
+    n_factorizations : int
+        Set-ups of the preconditioner this object triggered: factorizations (direct) or
+        multigrid hierarchies (iterative); 1 after set-up, for the whole run.
+    factor_seconds : float
+        Wall time of that set-up (s).
+    iterations : list of int
+        Krylov iterations of every solve (1 per solve for the direct solver).
+    """
+
+    kind = ""
+
+    def __init__(self, A: PETSc.Mat, comm: MPI.Comm, *, problem: str, petsc_options=None,
+                 options_key: str = "structure.petsc"):
+        self.A = A
+        self.comm = comm
+        self.options_key = options_key
+        self.user_options = petsc_option_strings(petsc_options, options_key)
+        self.prefix = f"gsi_{problem}{next(_prefix_counter)}_"
+        self.ksp = PETSc.KSP().create(comm)
+        self.ksp.setOptionsPrefix(self.prefix)
+        self.ksp.setOperators(A)
+        self.n_factorizations = 0
+        self.factor_seconds = 0.0
+        self.iterations: list[int] = []
+        self._ready = False
+        self._db_keys: list[str] = []
+
+    # ---------------------------------------------------------------- options
+    def _set_options(self, defaults: dict[str, str]) -> None:
+        """Put ``defaults`` and then the user's options into PETSc's options database
+        under this solver's prefix and let the KSP read them."""
+        if not defaults and not self.user_options:
+            return
+        opts = PETSc.Options()
+        for k, v in {**defaults, **self.user_options}.items():
+            opts[self.prefix + k] = v
+            self._db_keys.append(self.prefix + k)
+        try:
+            self.ksp.setFromOptions()
+        except PETSc.Error as exc:
+            raise self._refused(exc, defaults) from None
+
+    def _refused(self, exc, defaults) -> GsiInputError:
+        """The one-line error for options PETSc refused: find the key alone at fault
+        (each user option tried on its own on a scratch solver of this process)."""
+        text = compat.petsc_error_text(exc)
+        self._clear_options()
+        opts = PETSc.Options()
+        for k, v in self.user_options.items():
+            scratch = self.prefix + "check_"
+            trial = {**defaults, k: v}
+            ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+            ksp.setOptionsPrefix(scratch)
+            self._configure_scratch(ksp)
+            for kk, vv in trial.items():
+                opts[scratch + kk] = vv
+            try:
+                ksp.setFromOptions()
+            except PETSc.Error as e:
+                return GsiInputError(f"{self.options_key}.{k} = {v!r}: PETSc refused it "
+                                     f"({compat.petsc_error_text(e)})")
+            finally:
+                for kk in trial:
+                    opts.delValue(scratch + kk)
+                ksp.destroy()
+        keys = ", ".join(self.user_options) or "none"
+        return GsiInputError(f"{self.options_key}: PETSc refused these options ({keys}): {text}")
+
+    def _configure_scratch(self, ksp) -> None:
+        """Give a scratch KSP this solver's types (for :meth:`_refused`)."""
+
+    def _check_used(self) -> None:
+        """After the first solve: every user option must have been read by PETSc
+        (collective; an option read on any rank counts)."""
+        unused = []
+        for k in self.user_options:
+            used = compat.petsc_option_used(self.prefix + k)
+            if used is None:
+                return
+            if not self.comm.allreduce(bool(used), op=MPI.LOR):
+                unused.append(k)
+        self._clear_options()
+        if unused:
+            k = unused[0]
+            raise GsiInputError(
+                f"{self.options_key}.{k} = {self.user_options[k]!r}: PETSc did not use this "
+                f"option (the {self.kind} solver: {self.describe()}); check its name in the "
+                "PETSc manual")
+
+    def _clear_options(self) -> None:
+        opts = PETSc.Options()
+        for k in self._db_keys:
+            opts.delValue(k)
+        self._db_keys = []
+
+    def describe(self) -> str:
+        """KSP and PC types, e.g. 'cg + gamg'."""
+        return f"{self.ksp.getType()} + {self.ksp.getPC().getType()}"
+
+    # ---------------------------------------------------------------- solving
+    def factorize(self) -> None:
+        """Build the preconditioner (factorization or multigrid hierarchy) once (collective)."""
+        if self._ready:
+            return
+        t0 = time.perf_counter()
+        try:
+            self.ksp.setUp()
+        except PETSc.Error as exc:
+            if not self.user_options:
+                raise
+            self._clear_options()
+            raise GsiInputError(f"{self.options_key}: PETSc could not set up the solver "
+                                f"{self.describe()} with these options "
+                                f"({', '.join(self.user_options)}): "
+                                f"{compat.petsc_error_text(exc)}") from None
+        self.factor_seconds += time.perf_counter() - t0
+        self.n_factorizations += 1
+        self._ready = True
+
+    def solve(self, b: PETSc.Vec, x: PETSc.Vec) -> None:
+        """x <- A^-1 b (collective). ``x`` holds the initial guess of the iterative solver."""
+        self.factorize()
+        first = not self.iterations
+        reason, its = self._solve(b, x)
+        self.iterations.append(its)
+        if first and self._db_keys:
+            self._check_used()
+        if reason < 0:
+            raise GsiRunError(self._failure(reason))
+
+    def _solve(self, b, x) -> tuple[int, int]:
+        """Solve; (PETSc converged reason, iterations)."""
+        self.ksp.solve(b, x)
+        return int(self.ksp.getConvergedReason()), int(self.ksp.getIterationNumber())
+
+    def _failure(self, reason: int) -> str:
+        return (f"FE linear solve failed (PETSc reason {reason}): check the supports "
+                "(a free rigid-body mode makes K singular)")
+
+    def destroy(self) -> None:
+        self._clear_options()
+        self.ksp.destroy()
+
+
+class FactorOnceSolver(LinearSolver):
     """Direct solver (PETSc KSP preonly) factorizing ``A`` exactly once.
 
     One rank: MUMPS, LU or Cholesky. Several ranks: SuperLU_DIST LU, because MUMPS's
@@ -117,43 +347,102 @@ class FactorOnceSolver:
     ``--resume`` under mpirun needs a reproducible solve.
 
     ``n_factorizations`` counts the numerical factorizations this object triggered.
+    Without ``petsc_options`` PETSc's options database is not read at all.
     """
 
-    def __init__(self, A: PETSc.Mat, comm: MPI.Comm, *, factorization: str = "lu"):
+    kind = "direct"
+
+    def __init__(self, A: PETSc.Mat, comm: MPI.Comm, *, factorization: str = "lu",
+                 problem: str = "elasticity", petsc_options=None,
+                 options_key: str = "structure.petsc"):
         if factorization not in ("lu", "cholesky"):
             raise GsiInputError(f"structure.factorization = {factorization!r}: must be 'lu' or 'cholesky'")
-        self.ksp = PETSc.KSP().create(comm)
-        self.ksp.setOperators(A)
-        self.ksp.setType("preonly")
-        pc = self.ksp.getPC()
-        if comm.size == 1:
-            pc.setType(factorization)
+        super().__init__(A, comm, problem=problem, petsc_options=petsc_options,
+                         options_key=options_key)
+        self.factorization = factorization
+        self._configure_scratch(self.ksp)
+        self.ksp.getPC().setReusePreconditioner(True)
+        self._set_options({})
+
+    def _configure_scratch(self, ksp) -> None:
+        ksp.setType("preonly")
+        pc = ksp.getPC()
+        if ksp.getComm().getSize() == 1:
+            pc.setType(self.factorization)
             pc.setFactorSolverType("mumps")
         else:
             pc.setType("lu")
             pc.setFactorSolverType("superlu_dist")
-        self.package = pc.getFactorSolverType()
-        pc.setReusePreconditioner(True)
-        self.n_factorizations = 0
-        self.factor_seconds = 0.0   # wall time of the factorization(s) (s)
-        self._ready = False
 
-    def factorize(self) -> None:
-        if not self._ready:
-            t0 = time.perf_counter()
-            self.ksp.setUp()
-            self.factor_seconds += time.perf_counter() - t0
-            self.n_factorizations += 1
-            self._ready = True
 
-    def solve(self, b: PETSc.Vec, x: PETSc.Vec) -> None:
-        self.factorize()
-        self.ksp.solve(b, x)
-        reason = self.ksp.getConvergedReason()
-        if reason < 0:
-            from gsi.errors import GsiRunError
-            raise GsiRunError(f"FE linear solve failed (PETSc reason {reason}): "
-                              "check the supports (a free rigid-body mode makes K singular)")
+class IterativeSolver(LinearSolver):
+    """CG + algebraic multigrid, the hierarchy built once, warm-started from ``x``.
 
-    def destroy(self) -> None:
-        self.ksp.destroy()
+    Parameters
+    ----------
+    A, comm, problem, petsc_options, options_key
+        As :class:`LinearSolver`.
+    near_nullspace : PETSc.NullSpace, optional
+        Near-nullspace of A for GAMG (elasticity: :func:`rigid_body_modes`).
+    rtol : float
+        Relative tolerance of the true residual (``ksp_rtol`` overrides it).
+
+    Notes
+    -----
+    The KSP gets its operator once and keeps the preconditioner
+    (``PCSetReusePreconditioner``), so PETSc does not rebuild it when a solve follows;
+    ``n_factorizations`` stays 1. A right-hand side of zero gives x = 0 without iterating
+    (a relative tolerance cannot be met there from a nonzero warm start).
+    """
+
+    kind = "iterative"
+
+    def __init__(self, A: PETSc.Mat, comm: MPI.Comm, *, problem: str, petsc_options=None,
+                 options_key: str = "structure.petsc", near_nullspace=None,
+                 rtol: float = ITERATIVE_RTOL):
+        super().__init__(A, comm, problem=problem, petsc_options=petsc_options,
+                         options_key=options_key)
+        if problem == "elasticity":
+            defaults = ITERATIVE_DEFAULTS["elasticity"]
+        else:
+            defaults = ITERATIVE_DEFAULTS["heat_hypre" if _hypre_available() else "heat_gamg"]
+        self.defaults = defaults
+        if near_nullspace is not None:
+            A.setNearNullSpace(near_nullspace)
+        ksp = self.ksp
+        self._configure_scratch(ksp)
+        ksp.setTolerances(rtol=rtol, atol=0.0, max_it=10000)
+        ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
+        ksp.setInitialGuessNonzero(True)
+        ksp.getPC().setReusePreconditioner(True)
+        self._set_options(defaults)
+
+    def _configure_scratch(self, ksp) -> None:
+        ksp.setType(self.defaults["ksp_type"])
+        ksp.getPC().setType(self.defaults["pc_type"])
+
+    def _solve(self, b, x) -> tuple[int, int]:
+        if b.norm(PETSc.NormType.NORM_INFINITY) == 0.0:
+            x.set(0.0)
+            return 1, 0
+        return super()._solve(b, x)
+
+    def _failure(self, reason: int) -> str:
+        its = self.ksp.getIterationNumber()
+        rnorm = self.ksp.getResidualNorm()
+        return (f"FE iterative solve failed (PETSc reason {reason}, {its} iterations, residual "
+                f"{rnorm:.3g}): check the supports (a free rigid-body mode makes K singular), "
+                "or use solver = 'direct'")
+
+
+def make_solver(A: PETSc.Mat, comm: MPI.Comm, *, kind: str, problem: str,
+                factorization: str = "lu", petsc_options=None,
+                options_key: str = "structure.petsc", near_nullspace=None,
+                rtol: float = ITERATIVE_RTOL) -> LinearSolver:
+    """The solver of ``kind`` ("direct" or "iterative", see :func:`choose_solver`)."""
+    if kind == "direct":
+        return FactorOnceSolver(A, comm, factorization=factorization, problem=problem,
+                                petsc_options=petsc_options, options_key=options_key)
+    nsp = near_nullspace() if callable(near_nullspace) else near_nullspace
+    return IterativeSolver(A, comm, problem=problem, petsc_options=petsc_options,
+                           options_key=options_key, near_nullspace=nsp, rtol=rtol)

@@ -134,6 +134,12 @@ def dof_index_map(V):
     return V.dofmap.index_map, V.dofmap.index_map_bs
 
 
+def dof_coordinates(V) -> np.ndarray:
+    """Coordinates (m) of the local (owned, then ghost) dof nodes of ``V``, shape (n, 3);
+    one row per block (node) of a vector space."""
+    return V.tabulate_dof_coordinates()
+
+
 # ----------------------------------------------------------------------------- functions
 
 def function(V, name: str | None = None):
@@ -250,6 +256,55 @@ def set_bc(b: PETSc.Vec, bcs, scale: float = 1.0) -> None:
 def assemble_scalar(M, comm: MPI.Comm) -> float:
     """Global value of a functional (summed over ranks)."""
     return comm.allreduce(dolfinx.fem.assemble_scalar(M), op=MPI.SUM)
+
+
+# ----------------------------------------------------------------------------- PETSc options
+
+_petsc_lib = None
+
+
+def petsc_option_used(name: str) -> bool | None:
+    """Whether PETSc has read the option ``name`` (without the leading '-') from its
+    options database (``PetscOptionsUsed``; petsc4py 3.18 does not wrap it, so it is called
+    through ctypes). None if the PETSc library cannot be found (then nothing is checked)."""
+    global _petsc_lib
+    import ctypes
+    import ctypes.util
+    if _petsc_lib is None:
+        major, minor, _ = PETSc.Sys.getVersion()
+        lib = None
+        for cand in (f"libpetsc_real.so.{major}.{minor}", f"libpetsc.so.{major}.{minor}",
+                     ctypes.util.find_library("petsc_real"), ctypes.util.find_library("petsc")):
+            if not cand:
+                continue
+            try:
+                lib = ctypes.CDLL(cand)
+                fn = lib.PetscOptionsUsed
+                break
+            except (OSError, AttributeError):
+                lib = None
+        if lib is None:
+            _petsc_lib = False
+        else:
+            fn.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.POINTER(ctypes.c_int)]
+            fn.restype = ctypes.c_int
+            _petsc_lib = fn
+    if _petsc_lib is False:
+        return None
+    used = ctypes.c_int(0)
+    if _petsc_lib(None, name.encode(), ctypes.byref(used)) != 0:
+        return None
+    return bool(used.value)
+
+
+def petsc_error_text(exc: Exception) -> str:
+    """The last line of a petsc4py error (PETSc's own message, e.g. 'Input string abc has
+    no numeric value'), or the error code."""
+    lines = [ln.strip() for ln in str(exc).splitlines() if ln.strip()]
+    if not lines:
+        return f"PETSc error {getattr(exc, 'ierr', '?')}"
+    import re
+    return re.sub(r"^\[\d+\]\s*", "", lines[-1])
 
 
 # ----------------------------------------------------------------------------- output

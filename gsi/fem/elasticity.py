@@ -26,7 +26,9 @@ alpha_f = rho_inf/(rho_inf + 1), gamma = 1/2 - alpha_m + alpha_f,
 beta = (1 - alpha_m + alpha_f)^2 / 4).
 
 The effective matrix ``c_M M + c_K K`` (Dirichlet rows/columns eliminated) is assembled
-and factorized once; each step builds only the right-hand side
+and factorized once (``solver="direct"``), or its algebraic-multigrid preconditioner
+(GAMG with the rigid-body near-nullspace) is built once (``solver="iterative"``: CG
+warm-started from u_n); each step builds only the right-hand side
 
     b = f_{n+1-alpha_f} + M w_M + K w_K - A g
 
@@ -44,7 +46,8 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError
 
 from . import compat
-from ._base import FactorOnceSolver, NodalLoads, VertexDofMap
+from ._base import (LinearSolver, NodalLoads, VertexDofMap, choose_solver, make_solver,
+                    petsc_option_strings, ITERATIVE_RTOL, rigid_body_modes)
 from .materials import get_material
 
 SCHEMES = ("static", "newmark", "generalized_alpha")
@@ -105,7 +108,19 @@ class Elasticity:
     T_ref : float
         Stress-free temperature (K or degC, as the temperatures given).
     factorization : {"lu", "cholesky"}
-        MUMPS factorization of the effective matrix.
+        MUMPS factorization of the effective matrix (direct solver).
+    solver : {"auto", "direct", "iterative"}
+        Linear solver: MUMPS factorized once, CG + GAMG (rigid-body near-nullspace) with
+        the hierarchy built once and a warm start, or by size ("auto": iterative from
+        ``gsi.fem._base.AUTO_ITERATIVE_DOFS["elasticity"]`` dofs on).
+    petsc_options : dict, optional
+        PETSc options without the leading dash (e.g. ``{"ksp_rtol": 1e-12}``), applied
+        under this problem's own options prefix; they override gsi's defaults.
+    rtol : float, optional
+        Relative tolerance of the iterative solver's true residual (default
+        ``gsi.fem.options.ITERATIVE_RTOL``; ``ksp_rtol`` in ``petsc_options`` overrides it).
+    options_key : str
+        TOML key of ``petsc_options`` named by errors (e.g. ``structures[0].petsc``).
 
     Notes
     -----
@@ -118,7 +133,9 @@ class Elasticity:
 
     def __init__(self, structure, material, *, degree: int = 1, scheme: str = "static",
                  dt: float | None = None, rho_inf: float = 1.0, rayleigh=(0.0, 0.0),
-                 gravity=(0.0, 0.0, 0.0), T_ref: float = 0.0, factorization: str = "lu"):
+                 gravity=(0.0, 0.0, 0.0), T_ref: float = 0.0, factorization: str = "lu",
+                 solver: str = "auto", petsc_options: dict | None = None,
+                 options_key: str = "structure.petsc", rtol: float | None = None):
         if degree not in (1, 2):
             raise GsiInputError(f"structure.degree = {degree!r}: must be 1 or 2")
         if scheme not in SCHEMES:
@@ -133,6 +150,12 @@ class Elasticity:
         self.material = get_material(material)
         self.degree, self.scheme, self.dt = degree, scheme, dt
         self.factorization = factorization
+        choose_solver(solver, 0, "elasticity")          # checks the name
+        petsc_option_strings(petsc_options, options_key)
+        self.solver, self.petsc_options, self.options_key = solver, petsc_options, options_key
+        if rtol is not None and not 0.0 < rtol < 1.0:
+            raise GsiInputError(f"structure.rtol = {rtol!r}: must be in (0, 1)")
+        self.rtol = ITERATIVE_RTOL if rtol is None else float(rtol)
         self.params = newmark_parameters(scheme, rho_inf) if scheme != "static" else {}
         self.rayleigh = (float(rayleigh[0]), float(rayleigh[1]))
 
@@ -154,7 +177,7 @@ class Elasticity:
         self._bc_dofs_by_tag: dict[str, np.ndarray] = {}
         self.t = 0.0
         self.n_steps = 0
-        self._solver: FactorOnceSolver | None = None
+        self._solver: LinearSolver | None = None
 
     # ------------------------------------------------------------------ set-up API
     def clamp(self, tag: str, *, components=None, value=None) -> None:
@@ -237,13 +260,24 @@ class Elasticity:
 
     @property
     def n_factorizations(self) -> int:
-        """Number of factorizations of the effective matrix so far (1 after set-up)."""
+        """Number of factorizations of the effective matrix (direct) or builds of its
+        multigrid preconditioner (iterative) so far (1 after set-up)."""
         return 0 if self._solver is None else self._solver.n_factorizations
 
     @property
     def n_dofs(self) -> int:
         imap, bs = compat.dof_index_map(self.V)
         return imap.size_global * bs
+
+    @property
+    def solver_kind(self) -> str:
+        """The linear solver used: "direct" or "iterative" ("auto" resolved by size)."""
+        return choose_solver(self.solver, self.n_dofs, "elasticity")
+
+    @property
+    def iterations(self) -> list[int]:
+        """Krylov iterations of every solve so far (1 each for the direct solver)."""
+        return [] if self._solver is None else list(self._solver.iterations)
 
     # ------------------------------------------------------------------ assembly
     def _check_not_set_up(self, what: str) -> None:
@@ -296,7 +330,11 @@ class Elasticity:
         with self._lift.localForm() as loc:
             loc.set(0.0)
         compat.apply_lifting_and_accumulate(self._lift, self._a_eff, self.bcs)
-        self._solver = FactorOnceSolver(A, self.comm, factorization=self.factorization)
+        self._solver = make_solver(A, self.comm, kind=self.solver_kind, problem="elasticity",
+                                   factorization=self.factorization,
+                                   petsc_options=self.petsc_options, options_key=self.options_key,
+                                   rtol=self.rtol,
+                                   near_nullspace=lambda: rigid_body_modes(self.V, A))
         self._solver.factorize()
         self._sigma_expr = None
 

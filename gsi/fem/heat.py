@@ -25,7 +25,9 @@ convection matrix K, one step of size dt is
 where F (flux, convective ambient term, source, nodal loads) is held over the step.
 theta = 1 (backward Euler, default) is L-stable and does not oscillate after a sudden
 change of a boundary temperature; theta = 1/2 (Crank-Nicolson) is second order.
-The matrix C/dt + theta K is assembled and factorized once; h of each tag must be set
+The matrix C/dt + theta K is assembled and factorized once (``solver="direct"``), or its
+algebraic-multigrid preconditioner (hypre BoomerAMG; GAMG without hypre) is built once for
+CG warm-started from T_n (``solver="iterative"``); h of each tag must be set
 before the first step (T_ambient, q and the nodal loads may change every step).
 
 theta < 1/2 (theta = 0: the explicit forward difference of seed 002, the FDEM
@@ -68,7 +70,8 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError
 
 from . import compat
-from ._base import FactorOnceSolver, NodalLoads, VertexDofMap
+from ._base import (LinearSolver, NodalLoads, VertexDofMap, choose_solver, make_solver,
+                    petsc_option_strings, ITERATIVE_RTOL)
 from .materials import get_material
 
 
@@ -90,6 +93,18 @@ class Heat:
     degree : int
         Lagrange degree 1 or 2.
     factorization : {"lu", "cholesky"}
+        MUMPS factorization (direct solver).
+    solver : {"auto", "direct", "iterative"}
+        Linear solver: MUMPS factorized once, CG + algebraic multigrid built once with a
+        warm start, or by size ("auto": iterative from
+        ``gsi.fem._base.AUTO_ITERATIVE_DOFS["heat"]`` dofs on).
+    petsc_options : dict, optional
+        PETSc options without the leading dash, under this problem's own prefix.
+    rtol : float, optional
+        Relative tolerance of the iterative solver's true residual (default
+        ``gsi.fem.options.ITERATIVE_RTOL``; ``ksp_rtol`` in ``petsc_options`` overrides it).
+    options_key : str
+        TOML key of ``petsc_options`` named by errors.
     theta_key : str
         Key named by the stability error (e.g. ``structures[0].thermal.theta``).
 
@@ -100,6 +115,8 @@ class Heat:
 
     def __init__(self, structure, material, *, dt: float, theta: float = 1.0,
                  T_initial: float = 0.0, degree: int = 1, factorization: str = "lu",
+                 solver: str = "auto", petsc_options: dict | None = None,
+                 options_key: str = "structure.petsc", rtol: float | None = None,
                  theta_key: str = "structure.heat.theta"):
         if not (dt is not None and np.isfinite(dt) and dt > 0):
             raise GsiInputError(f"structure.heat.dt = {dt!r}: must be > 0 (s)")
@@ -117,6 +134,12 @@ class Heat:
         self.material = get_material(material)
         self.dt, self.theta, self.degree = float(dt), float(theta), degree
         self.factorization = factorization
+        choose_solver(solver, 0, "heat")          # checks the name
+        petsc_option_strings(petsc_options, options_key)
+        self.solver, self.petsc_options, self.options_key = solver, petsc_options, options_key
+        if rtol is not None and not 0.0 < rtol < 1.0:
+            raise GsiInputError(f"structure.rtol = {rtol!r}: must be in (0, 1)")
+        self.rtol = ITERATIVE_RTOL if rtol is None else float(rtol)
         self.V = compat.scalar_space(mesh, degree)
         self.T = compat.function(self.V, "temperature")
         self.T.x.array[:] = float(T_initial)
@@ -133,7 +156,7 @@ class Heat:
         self._bc_dofs_by_tag: dict[str, np.ndarray] = {}
         self.t = 0.0
         self.n_steps = 0
-        self._solver: FactorOnceSolver | None = None
+        self._solver: LinearSolver | None = None
         #: the :class:`gsi.fem.contact_heat.ContactHeatSystem` that steps this body (None:
         #: it steps alone)
         self.contact_system = None
@@ -236,6 +259,16 @@ class Heat:
     def n_dofs(self) -> int:
         return compat.dof_index_map(self.V)[0].size_global
 
+    @property
+    def solver_kind(self) -> str:
+        """The linear solver used: "direct" or "iterative" ("auto" resolved by size)."""
+        return choose_solver(self.solver, self.n_dofs, "heat")
+
+    @property
+    def iterations(self) -> list[int]:
+        """Krylov iterations of every solve so far (1 each for the direct solver)."""
+        return [] if self._solver is None else list(self._solver.iterations)
+
     # ------------------------------------------------------------------ assembly
     def _setup(self):
         if self._solver is not None:
@@ -276,7 +309,10 @@ class Heat:
         with self._lift.localForm() as loc:
             loc.set(0.0)
         compat.apply_lifting_and_accumulate(self._lift, self._a, self.bcs)
-        self._solver = FactorOnceSolver(self._A, self.comm, factorization=self.factorization)
+        self._solver = make_solver(self._A, self.comm, kind=self.solver_kind, problem="heat",
+                                   factorization=self.factorization,
+                                   petsc_options=self.petsc_options, options_key=self.options_key,
+                                   rtol=self.rtol)
         self._solver.factorize()
 
     def _radiation_flux(self, tag):

@@ -1,0 +1,178 @@
+"""Linear solver choice: direct (MUMPS, factorized once) against iterative (CG + algebraic
+multigrid, built once, warm-started), the "auto" rule, and PETSc pass-through options.
+
+The iterative solver stops at ||b - A x|| <= 1e-10 ||b|| (gsi.fem.options.ITERATIVE_RTOL);
+its answers agree with the direct solver's to about that tolerance times the conditioning
+of these small problems, asserted here at 1e-8 of the largest value.
+"""
+import numpy as np
+import pytest
+from petsc4py import PETSc
+
+import meshes
+from gsi.case.structure import Structure
+from gsi.config.schema import load
+from gsi.errors import GsiInputError
+from gsi.fem.elasticity import Elasticity
+from gsi.fem.heat import Heat
+from gsi.fem.options import AUTO_ITERATIVE_DOFS, ITERATIVE_RTOL, choose_solver
+
+AGREE = 1e-8
+
+
+@pytest.fixture(scope="module")
+def slab():
+    """A thick disc (radius / thickness = 10): few CG iterations, so the test is quick."""
+    return meshes.build("membrane", shape="circle", radius=0.3, thickness=0.03, h=0.06,
+                        n_thickness=2)
+
+
+def _static(slab, solver, **kw):
+    p = Elasticity(slab, "steel", degree=2, gravity=(0.0, 0.0, -9.81), solver=solver, **kw)
+    p.clamp("support")
+    p.set_traction("contact", [1.0e3, 0.0, -2.0e4])
+    p.solve()
+    return p
+
+
+def _dynamic(slab, solver):
+    p = Elasticity(slab, "steel", degree=2, scheme="generalized_alpha", dt=2e-5, rho_inf=0.8,
+                   rayleigh=(5.0, 1e-7), solver=solver)
+    p.clamp("support")
+    p.set_traction("contact", [0.0, 0.0, -2.0e4])
+    for k in range(4):
+        p.set_traction("contact", [0.0, 1.0e3 * k, -2.0e4])
+        p.step()
+    return p
+
+
+def _heat(slab, solver):
+    h = Heat(slab, "steel", dt=0.5, T_initial=20.0, degree=2, solver=solver)
+    h.fix_temperature("support", 80.0)
+    h.set_convection("outer", 25.0, 20.0)
+    h.set_flux("contact", 2.0e3)
+    for _ in range(3):
+        h.step()
+    return h
+
+
+def _close(a, b):
+    return np.abs(a - b).max() <= AGREE * np.abs(a).max()
+
+
+def test_static_results_agree_between_solvers(slab):
+    d, i = _static(slab, "direct"), _static(slab, "iterative")
+    assert (d.solver_kind, i.solver_kind) == ("direct", "iterative")
+    assert _close(d.u.x.array, i.u.x.array)
+    assert _close(d.reaction("support"), i.reaction("support"))
+    assert i.iterations[0] > 1 and d.iterations == [1]
+
+
+def test_dynamic_results_agree_between_solvers(slab):
+    d, i = _dynamic(slab, "direct"), _dynamic(slab, "iterative")
+    for name in ("u", "v", "a"):
+        assert _close(getattr(d, name).x.array, getattr(i, name).x.array), name
+    assert d.n_factorizations == i.n_factorizations == 1
+
+
+def test_heat_results_agree_between_solvers(slab):
+    d, i = _heat(slab, "direct"), _heat(slab, "iterative")
+    assert _close(d.T.x.array - 20.0, i.T.x.array - 20.0)
+    assert i.heat_flow("support") == pytest.approx(d.heat_flow("support"), rel=1e-7)
+    assert i.n_factorizations == 1 and len(i.iterations) == 3
+
+
+def test_iterative_builds_its_preconditioner_once_and_warm_starts(slab):
+    PETSc.Log.begin()
+    setups = PETSc.Log.Event("PCSetUp")
+    p = Elasticity(slab, "steel", degree=2, scheme="newmark", dt=2e-5, solver="iterative")
+    p.clamp("support")
+    p.set_traction("contact", [0.0, 0.0, -2.0e4])
+    p.step()
+    p.step()
+    after_two = setups.getPerfInfo()["count"]
+    for _ in range(5):
+        p.step()
+    assert setups.getPerfInfo()["count"] == after_two   # PETSc's own count: no rebuild
+    assert p.n_factorizations == 1
+    assert p._solver.describe() == "cg + gamg"
+    assert p._solver.ksp.getInitialGuessNonzero()
+    # a second static solve of the same problem starts at the solution: (almost) no work
+    s = _static(slab, "iterative")
+    s.solve()
+    assert s.iterations[1] <= s.iterations[0] // 4
+
+
+def test_zero_load_gives_zero_without_iterating(slab):
+    p = Elasticity(slab, "steel", degree=1, solver="iterative")
+    p.clamp("support")
+    p.u.x.array[:] = 1.0             # a warm start far from the answer
+    p.solve()
+    assert p.iterations == [0] and not np.any(p.u.x.array)
+
+
+def test_auto_is_direct_below_the_measured_crossover(slab):
+    p = Elasticity(slab, "steel", degree=2)
+    assert p.solver == "auto" and p.solver_kind == "direct"
+    n = AUTO_ITERATIVE_DOFS["elasticity"]
+    assert choose_solver("auto", n - 1, "elasticity") == "direct"
+    assert choose_solver("auto", n, "elasticity") == "iterative"
+    assert choose_solver("direct", 10 * n, "heat") == "direct"
+    with pytest.raises(GsiInputError, match=r"^structure.solver = 'mumps': must be one of"):
+        Elasticity(slab, "steel", solver="mumps")
+
+
+def test_petsc_options_reach_their_own_solver_only(slab):
+    a = _static(slab, "iterative", petsc_options={"ksp_rtol": 1e-6})
+    b = _static(slab, "iterative")
+    assert a._solver.prefix != b._solver.prefix
+    assert a._solver.ksp.getTolerances()[0] == 1e-6
+    assert b._solver.ksp.getTolerances()[0] == ITERATIVE_RTOL
+    assert a.iterations[0] < b.iterations[0]
+    # gsi's options leave PETSc's database after the first solve
+    left = [k for k in PETSc.Options().getAll() if k.startswith("gsi_")]
+    assert left == []
+    # the direct solver takes options too (MUMPS workspace +40 %), with the same answer
+    d = _static(slab, "direct", petsc_options={"mat_mumps_icntl_14": 40})
+    assert _close(d.u.x.array, b.u.x.array)
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"ksp_rtoll": 1e-8}, r"^structure.petsc.ksp_rtoll = '1e-08': PETSc did not use this option"),
+    ({"ksp_rtol": "abc"}, r"^structure.petsc.ksp_rtol = 'abc': PETSc refused it \(.*abc"),
+    ({"pc_type": "nosuchpc"}, r"^structure.petsc.pc_type = 'nosuchpc': PETSc refused it"),
+    ({"-ksp_rtol": 1e-8}, r"^structure.petsc.-ksp_rtol: not a PETSc option name; write it without"),
+    ({"ksp_rtol": [1e-8]}, r"^structure.petsc.ksp_rtol = \[1e-08\]: must be a number, a word"),
+    ({"ksp_type": "c g"}, r"^structure.petsc.ksp_type = 'c g': must be a number, a word"),
+])
+def test_bad_petsc_options_are_one_line_errors(slab, options, message):
+    with pytest.raises(GsiInputError, match=message) as err:
+        _static(slab, "iterative", petsc_options=options)
+    assert "\n" not in str(err.value)
+    left = [k for k in PETSc.Options().getAll() if k.startswith("gsi_")]
+    assert left == []
+
+
+def _case(structure):
+    """A [[structures]] table through the schema, as the case loader reads it."""
+    table = dict({"mesh": "membrane", "geometry": {"shape": "circle", "radius": 0.3}}, **structure)
+    return load(Structure, table, "structures[0]")
+
+
+@pytest.mark.parametrize("structure, message", [
+    ({"solver": "mumps"}, r"^structures\[0\].solver = 'mumps': must be one of 'direct'"),
+    ({"petsc": {"-ksp_rtol": 1e-8}}, r"^structures\[0\].petsc.-ksp_rtol: not a PETSc option"),
+    ({"petsc": {"ksp_rtol": {"a": 1}}}, r"^structures\[0\].petsc.ksp_rtol = \{'a': 1\}: must be"),
+    ({"contact": {"mode": "both"}, "thermal": {"petsc": {"ksp_rtol": True, "x y": 1}}},
+     r"^structures\[0\].thermal.petsc.x y: not a PETSc option"),
+    ({"contact": {"mode": "thermal", "n_sub": 1}, "petsc": {"ksp_rtol": 1e-8}},
+     r"^structures\[0\].petsc: contact.mode = 'thermal' has no elasticity"),
+])
+def test_toml_solver_keys_are_checked_before_a_run(structure, message):
+    with pytest.raises(GsiInputError, match=message):
+        _case(structure)
+
+
+def test_toml_solver_keys_reach_the_structure():
+    st = _case({"solver": "iterative", "petsc": {"ksp_rtol": 1e-9, "ksp_monitor": False}})
+    assert st.solver == "iterative" and st.petsc == {"ksp_rtol": 1e-9, "ksp_monitor": False}
