@@ -243,8 +243,9 @@ class Structure:
                                            doc="sets a0 = 2 zeta omega_1 instead of rayleigh[0]")
     self_weight: bool = param(False, doc="load the structure with its own weight (gravity)")
     solver: str = param("auto", check=one_of(*SOLVERS),
-                        doc="linear solver: direct (MUMPS; SuperLU_DIST on several ranks; factorized once), iterative (CG + "
-                            "algebraic multigrid, built once) or auto (iterative from "
+                        doc="linear solver: direct (MUMPS; SuperLU_DIST on several ranks; "
+                            "factorized once), iterative (CG + algebraic multigrid, built "
+                            "once) or auto (iterative from "
                             f"{AUTO_ITERATIVE_DOFS['elasticity']} dofs)")
     petsc: dict[str, Any] = param(default_factory=dict,
                                   doc="PETSc options of the elasticity solver without the '-', "
