@@ -434,7 +434,8 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
     -------
     dict
         ``dem``: reference (``T``, ``x`` (periods + 1, N, ...) by log order, ``seconds``
-        (wall) and ``cpu`` (process CPU time) per period, ``energy_drift``); ``runs``: per sampling a dict with ``every``,
+        (wall) and ``cpu`` (process CPU time) per period, ``energy_drift``); ``runs``:
+        per sampling a dict with ``every``,
         ``dt_split``, ``log`` (the :class:`ContactLog`), ``log_seconds`` (the DEM period
         with the log on), ``file_bytes``, ``file_seconds``, ``pairing_seconds``,
         ``replay_setup_seconds`` (once, with the pairing), ``replay_seconds`` (per
@@ -499,7 +500,8 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
         run.update(period_errors(log, res, dem["T"], dem["x"], seeds, hot_log))
         runs.append(run)
         say(f"every = {every}: eps_abs max {run['eps_abs'].max():.3g} K, eps_rel max "
-            f"{np.nanmax(run['eps_rel']):.3g}, eq. 10 max |{np.abs(run['energy_error']).max():.3g}|")
+            f"{np.nanmax(run['eps_rel']):.3g}, eq. 10 max "
+            f"|{np.abs(run['energy_error']).max():.3g}|")
     return {"dem": dem, "runs": runs, "seeds": seeds}
 
 

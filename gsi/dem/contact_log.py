@@ -62,8 +62,8 @@ from gsi.dem.contact_geometry import sphere_pair, pair_radius2, wall_radius2, pl
 from gsi.errors import GsiInputError
 from gsi.jit import njit
 
-__all__ = ["ContactLog", "LogState", "empty_log_state", "grown", "sample", "has_room", "count_contacts",
-           "close_open", "SIZE_MODELS"]
+__all__ = ["ContactLog", "LogState", "empty_log_state", "grown", "sample", "has_room",
+           "count_contacts", "close_open", "SIZE_MODELS"]
 
 #: size model of each heat model: 0 sqrt(pi a^2) (area, and no heat model), 1 a
 #: (radius), 2 one (constant)
