@@ -94,12 +94,13 @@ def test_resume_without_a_checkpoint_is_refused(tmp_path):
 
 
 # ---------------------------------------------------------------------- kill -9 and signals
-def _interrupt(out, sig, *, delay, ranks=None, target="process"):
+def _interrupt(out, sig, *, delay, ranks=None, target="process", case=None):
     """Start ``gsi run``, wait for its first checkpoint and ``delay`` s more, send ``sig``
     (to the process, its process group, or -- under mpirun -- to the ranks)."""
     import os
     import time
-    proc = cli(out, "--checkpoint-every", EVERY, ranks=ranks, start_new_session=True)
+    proc = cli(out, "--checkpoint-every", EVERY, ranks=ranks, case=case,
+               start_new_session=True)
     _util.wait_for("checkpoints/ckpt_*.json", out, proc=proc)
     time.sleep(delay)
     if target == "group":
@@ -116,8 +117,8 @@ def _interrupt(out, sig, *, delay, ranks=None, target="process"):
     return proc.returncode, stdout, stderr
 
 
-def _resume(out, ranks=None):
-    proc = cli(out, "--checkpoint-every", EVERY, "--resume", ranks=ranks)
+def _resume(out, ranks=None, case=None):
+    proc = cli(out, "--checkpoint-every", EVERY, "--resume", ranks=ranks, case=case)
     stdout, stderr = proc.communicate(timeout=600)
     assert proc.returncode == 0, stdout[-2000:] + stderr[-3000:]
     return stdout
@@ -176,11 +177,15 @@ def test_a_signal_under_mpirun_checkpoints_on_every_rank(tmp_path, target):
     exits with 1) or SIGTERM to the ranks alone (mpirun passes their status on: 143): one
     line from rank 0, a checkpoint of both ranks, a clean resume. The ranks must be gone
     within the second after SIGTERM: they leave with ``os._exit`` once the checkpoint is
-    written (with the interpreter's and MPI's teardown they often missed it)."""
+    written (with the interpreter's and MPI's teardown they often missed it). The case runs
+    0.15 s here (10,000 steps): the ranks get the signal one second after mpirun, and the
+    0.024 s case can end within that second on a fast machine (measured: 1.0 s from the
+    first checkpoint to its end, idle), when there is nothing left to interrupt."""
     import signal
     out = tmp_path / "out"
+    case = _util.longer_case(tmp_path, 0.15)
     sig = signal.SIGINT if target == "group" else signal.SIGTERM
-    rc, _, stderr = _interrupt(out, sig, delay=0.0, ranks=2, target=target)
+    rc, _, stderr = _interrupt(out, sig, delay=0.0, ranks=2, target=target, case=case)
     assert rc == (1 if target == "group" else 143), stderr
     ours = [line for line in stderr.splitlines() if line.startswith("interrupted at t = ")]
     assert len(ours) == 1 and "Traceback" not in stderr, stderr
@@ -189,7 +194,7 @@ def test_a_signal_under_mpirun_checkpoints_on_every_rank(tmp_path, target):
     assert manifest["n_ranks"] == 2
     assert manifest["time"] == pytest.approx(float(ours[0].split()[4]), rel=1e-5)
     _util.assert_files_open(out)
-    assert "resumed at t = " in _resume(out, ranks=2)
+    assert "resumed at t = " in _resume(out, ranks=2, case=case)
 
 
 def test_the_quick_hopper_demo_resumes_bitwise(tmp_path, monkeypatch):
