@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import pathlib
 import sys
 
@@ -182,6 +183,13 @@ def _run(args, argv=None) -> int:
         if _mpi_size() == 1 or sys.modules["mpi4py.MPI"].COMM_WORLD.rank == 0:
             print(f"interrupted at t = {exc.time:.6g} s; checkpoint written; resume with "
                   f"{command}", file=sys.stderr, flush=True)
+        if _mpi_size() > 1:
+            # Ctrl-C of mpirun: Open MPI sends the ranks SIGTERM and SIGKILL one second
+            # later (odls_base_sigkill_timeout); the checkpoint is complete and every file
+            # closed, so leave now rather than spend that second in the interpreter's,
+            # PETSc's and MPI's teardown (measured: the rank then often missed the line)
+            sys.stdout.flush()
+            os._exit(exc.exit_code)
         return exc.exit_code
     return 0
 

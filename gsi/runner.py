@@ -9,6 +9,9 @@ DEM advances in chunks between *events*, each at a whole step:
   and heat, steps, and hands its moved, heated wall back (``finish``), then opens the
   next interval (``begin``);
 * a wall motion's schedule event (its time rounded to the nearest step);
+* the steps of an ``[extrapolation]`` (:class:`gsi.extrapolation.CaseExtrapolation`):
+  temperatures set on two halves, the contact log's start t0 and end t1 (then the
+  pairing and the replay), the reference DEM's t_n;
 * a monitor sample, every ``interval`` (default the output interval);
 * an output (particles, walls, structures, progress line, pictures) every
   ``output.interval``;
@@ -113,10 +116,14 @@ def build_simulation(case, *, dt: float):
     sim = Simulation(
         materials=case.dem_materials(), contact=case.dem.contact, k_n=case.dem.k_n,
         rolling=case.dem.rolling, heat=None if case.dem.heat == "none" else case.dem.heat,
-        h_c=case.dem.h_c, gravity=case.dem.gravity, dt=dt,
+        h_c=case.dem.h_c, pipe_length=case.dem.pipe_length,
+        pipe_resistance=case.dem.pipe_resistance, gravity=case.dem.gravity, dt=dt,
         skin=case.dem.skin if case.dem.skin is not None else 0.4 * r_min,
         domain=(case.dem.domain_lo, case.dem.domain_hi), force_dt=case.dem.force_dt,
         pair_overrides=case.pair_overrides(), seed=case.run.seed, dt_checked=True)
+    radiation = case.radiation_options()
+    if radiation is not None:
+        sim.set_radiation(**radiation)
     handles = {}
     for i, w in enumerate(case.walls):
         handles[w.name] = w.add_to(sim, base_dir=case.base_dir, path=f"walls[{i}]")
@@ -192,6 +199,7 @@ class Runner:
         self._handles = {}
         self._groups = {}
         self.structures = []
+        self.contact_groups = []
         self._files = []
         self.resume = bool(resume)
         if checkpoint_every is not None and not (checkpoint_every >= 0
@@ -251,6 +259,9 @@ class Runner:
                              root=self.root)
             built.attach(self.sim)
             self.structures.append(built)
+        from gsi.case.thermal_contacts import build_contact_groups
+        self.contact_groups = build_contact_groups(
+            case.thermal_contacts, {st.name: st for st in self.structures})
         if self.structures:
             # whole coupling intervals of every structure (an FE step has a fixed dt)
             L = math.lcm(*(st.n_sub for st in self.structures))
@@ -266,6 +277,15 @@ class Runner:
                     else self.checkpoint_every)
         if interval > 0:
             self.every["checkpoint"] = max(1, int(round(interval / self.dt)))
+        # the long-time heat extrapolation (gsi.case.extrapolation): its steps are events
+        self.extrapolation = None
+        if case.extrapolation is not None:
+            if self.resume:
+                raise _agreed(GsiInputError(
+                    "resume: a case with [extrapolation] cannot resume (its contact log is "
+                    "not in the checkpoints); run it again"))
+            from gsi.extrapolation import CaseExtrapolation
+            self.extrapolation = CaseExtrapolation(case.extrapolation, dt=self.dt, out=self.out)
         # a schedule event at time t takes effect at the first step boundary at or after t
         # (the wall takes the motion state of the event itself, whatever the round-off)
         self.motion_events = {}
@@ -491,7 +511,9 @@ class Runner:
             self._catch_signals()
             while k < self.n_total:
                 nxt = min([self.n_total] + [(k // e + 1) * e for e in self.every.values()]
-                          + [j for j in self.motion_events if j > k])
+                          + [j for j in self.motion_events if j > k]
+                          + [j for j in (self.extrapolation.steps if self.extrapolation
+                                         else ()) if j > k])
                 exc = None
                 if self.is_root:
                     try:
@@ -503,14 +525,12 @@ class Runner:
                     raise err
                 k = nxt
                 t = k * self.dt
-                for st in self.structures:
-                    if k % st.n_sub == 0:
-                        st.finish()
-                        if k < self.n_total:
-                            st.begin()
+                self._finish_structures(k)
                 for w, t_event in self.motion_events.get(k, []):
                     if self.is_root:
                         w.apply_motion(self._handles[w.name], t_event)
+                if self.extrapolation is not None and self.is_root:
+                    self.extrapolation.at_step(k, self.sim, say=self.say)
                 for m in case.monitors:
                     if k % self.every[f"monitor:{m.name}"] == 0 or k == self.n_total:
                         self._sample(m, t)
@@ -529,6 +549,26 @@ class Runner:
             for st in self.structures:
                 st.close()
         return self._finish(wall0)
+
+    def _finish_structures(self, k: int) -> None:
+        """End the coupling interval of every structure due at step ``k`` and open the
+        next. Structures in an FE-FE thermal contact group take their loads first, the
+        group steps their heat as one system, then they record."""
+        due = [st for st in self.structures if k % st.n_sub == 0]
+        grouped = [st for st in due if st.contact_group is not None]
+        for st in due:
+            if st.contact_group is None:
+                st.finish()
+            else:
+                st.load_heat()
+        for group in self.contact_groups:
+            if any(st.contact_group is group for st in grouped):
+                group.step()
+        for st in grouped:
+            st.record()
+        if k < self.n_total:
+            for st in due:
+                st.begin()
 
     # ------------------------------------------------------------------ checkpoints
     def _maybe_checkpoint(self, k: int, n_out: int) -> None:
@@ -679,13 +719,21 @@ class Runner:
             for st in self.structures:
                 files += st.output_files()
             files += self._pictures(monitors)
+            extrap = {}
+            if self.extrapolation is not None:
+                extrap = self.extrapolation.finish(case.case.name)
+                if extrap:
+                    files += self.extrapolation.files
+                    if self.pictures:
+                        files += self.extrapolation.pictures(case.case.name,
+                                                             view=case.output.view)
             res = RunResult(name=case.case.name, time=sim.time, steps=sim.step_count, dt=self.dt,
                             n_particles=int(sim.n), n_lost=int(sim.n_lost),
                             particle_mass=float(sim.mass.sum()),
                             kinetic_energy=sim.kinetic_energy(), wall_load=load, weight=weight,
                             monitors=monitors, structures=structures, summary={},
                             wall_clock=time.perf_counter() - wall0, files=files)
-            res.summary = self._summary(res)
+            res.summary = self._summary(res, extrap)
             if self.checkpoint_seconds:
                 spent = sum(self.checkpoint_seconds)
                 self.say(f"checkpoints: {len(self.checkpoint_seconds)} written in {spent:.3f} s "
@@ -734,8 +782,9 @@ class Runner:
                     files.append(gif)
         return files
 
-    def _summary(self, r: RunResult) -> dict:
-        """Print the closing physics summary; return its key=value numbers."""
+    def _summary(self, r: RunResult, extrap: dict | None = None) -> dict:
+        """Print the closing physics summary; return its key=value numbers (with those of
+        the extrapolation, ``extrap``)."""
         g = np.linalg.norm(r.weight)
         along = float(r.wall_load @ r.weight / g ** 2) if g > 0 else math.nan
         lines = [f"summary of {r.name} at t = {r.time:.4g} s ({r.steps} steps of "
@@ -756,6 +805,10 @@ class Runner:
             for k, v in s.items():
                 if isinstance(v, (int, float)):
                     keys[f"{name}.{k}"] = v
+        if extrap:
+            lines.append("  extrapolation: " + ", ".join(
+                f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in extrap.items()))
+            keys.update(extrap)
         text = "\n".join(lines)
         last = " ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
                         for k, v in keys.items())

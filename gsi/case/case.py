@@ -10,8 +10,10 @@ A case file is a set of TOML tables, each of which is one object of this package
     [[particles]]     ParticleSource  fills, streams, particles from a file
     [[walls]]         Wall            planes, mesh files, built shapes; each with a Motion
     [[structures]]    Structure       FE bodies (builder or the user's .geo/.msh), coupled
+    [[thermal_contacts]] ThermalContact heat across the overlap of two structures (R_c)
     [[monitors]]      Monitor         time series to CSV
     [output]          Output          interval, fields, pictures
+    [extrapolation]   Extrapolation   long-time heat extrapolation (seed 003)
     [quick]           (overrides)     keys that replace the case's own with ``--quick``
 
 The TOML is a thin layer: :func:`load_case` hands each table to
@@ -51,15 +53,17 @@ import pathlib
 import tomllib
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Optional
 
 import numpy as np
 
+from gsi.case.extrapolation import Extrapolation
 from gsi.case.materials import Material, Pair
 from gsi.case.monitors import Monitor
 from gsi.case.settings import CaseInfo, Dem, Output, Run
 from gsi.case.sources import ParticleSource
 from gsi.case.structure import Structure
+from gsi.case.thermal_contacts import ThermalContact
 from gsi.case.walls import Wall
 from gsi.config.schema import load, param
 from gsi.errors import GsiInputError
@@ -95,8 +99,12 @@ class Case:
     particles: list[ParticleSource] = param(default_factory=list, doc="[[particles]] tables")
     walls: list[Wall] = param(default_factory=list, doc="[[walls]] tables")
     structures: list[Structure] = param(default_factory=list, doc="[[structures]] tables")
+    thermal_contacts: list[ThermalContact] = param(default_factory=list,
+                                                   doc="[[thermal_contacts]] tables")
     monitors: list[Monitor] = param(default_factory=list, doc="[[monitors]] tables")
     output: Output = param(doc="the [output] table")
+    extrapolation: Optional[Extrapolation] = param(
+        None, doc="[extrapolation]: long-time heat extrapolation (gsi.case.extrapolation)")
     quick: dict[str, Any] = param(default_factory=dict,
                                   doc="[quick]: keys replacing the case's own with --quick")
     #: directory of the case file: relative paths (mesh and particle files) resolve here
@@ -136,6 +144,13 @@ class Case:
                 seen[name] = i
         if not self.particles:
             raise GsiInputError("particles: missing; give at least one [[particles]] table")
+        if self.dem.radiation:
+            for i, p in enumerate(self.particles):
+                if self.materials[p.material].emissivity is None:
+                    raise GsiInputError(
+                        f"materials.{p.material}.emissivity: missing; dem.radiation = true "
+                        f"needs the emissivity (0-1) of every particle material "
+                        f"(particles[{i}])")
         if self.output.interval > self.run.duration:
             raise GsiInputError(f"output.interval = {self.output.interval}: must be <= "
                                 f"run.duration = {self.run.duration} (s)")
@@ -257,10 +272,13 @@ class Case:
                 raise GsiInputError(f"structures[{i}].contact.mode = {st.contact.mode!r}: a "
                                     f"thermal contact needs dem.heat = 'area', 'radius' or "
                                     f"'constant'")
+        by_name = {st.name: st for st in self.structures}
+        for i, c in enumerate(self.thermal_contacts):
+            c.check(f"thermal_contacts[{i}]", structures=by_name)
         for i, m in enumerate(self.monitors):
             m.check(f"monitors[{i}]", walls=set(self.wall_names()),
                     structures=set(self.structure_names()), groups=set(self.group_names()),
-                    thermal=self.thermal)
+                    thermal=self.thermal or self.dem.radiation)
         if self.quick:
             q = self.quick_variant()
             if q.run.duration > self.run.duration:
@@ -272,6 +290,10 @@ class Case:
         self._check_placed_overlaps()
         dt = self.time_step()
         self._check_streams(dt)
+        self._check_radiation(dt)
+        if self.extrapolation is not None:
+            self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
+                                     structures=len(self.structures))
         n_steps = self.run.duration / dt
         if n_steps > 1e10:
             raise GsiInputError(f"run.duration = {self.run.duration}: {n_steps:.2g} DEM steps "
@@ -304,6 +326,10 @@ class Case:
         self._check_placed_overlaps()
         dt = self.time_step()
         self._check_streams(dt)
+        self._check_radiation(dt)
+        if self.extrapolation is not None:
+            self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
+                                     structures=len(self.structures))
         if self.output.interval < dt:
             raise GsiInputError(f"output.interval = {self.output.interval}: shorter than the "
                                 f"DEM step {dt:.3g} s")
@@ -427,6 +453,52 @@ class Case:
                     f"particles[{i}].rate = {p.rate:g}: {per_step:.3g} particles per DEM step "
                     f"(rate x dt, dt = {dt:.3g} s) but the region holds about {holds:.3g}; "
                     f"lower the rate (at most {holds / dt:.3g} 1/s) or enlarge the region")
+
+    def radiation_options(self) -> dict | None:
+        """Keywords of :meth:`gsi.dem.Simulation.set_radiation` (None: no radiation):
+        the emissivity of every material that has one (walls of materials without one
+        do not radiate), the cut-off, the evaluation interval and the enclosure."""
+        if not self.dem.radiation:
+            return None
+        from gsi.dem.radiation import CUTOFF_DEFAULT
+        d = self.dem
+        return dict(emissivity={k: m.emissivity for k, m in self.materials.items()
+                                if m.emissivity is not None},
+                    cutoff=CUTOFF_DEFAULT if d.radiation_cutoff is None else d.radiation_cutoff,
+                    every=1 if d.radiation_every is None else d.radiation_every,
+                    T_enclosure=d.radiation_T_enclosure)
+
+    def _check_radiation(self, dt: float) -> None:
+        """The explicit radiation update must be stable at the start (the bound of
+        :mod:`gsi.dem.radiation`, which the run checks again at every evaluation):
+        radiation_every x dt x 4 eps sigma T_max^3 A/(m c_p) <= 1 with A/m = 3/(R rho)
+        at each source's smallest radius, c_p divided by the heat-time scale, T_max the
+        highest particle, wall, structure or enclosure temperature."""
+        opts = self.radiation_options()
+        if opts is None:
+            return
+        from gsi.dem.radiation import SIGMA
+        s = self.run.heat_time_scale
+        temps = [p.temperature for p in self.particles]
+        temps += [w.temperature for w in self.walls if w.temperature is not None]
+        for st in self.structures:
+            th = st.thermal
+            if th is not None:
+                temps.append(th.T_initial if th.T_initial is not None else th.T_ref)
+        if opts["T_enclosure"] is not None:
+            temps.append(opts["T_enclosure"])
+        T_max = max(temps)
+        rate = max(3.0 * self.materials[p.material].emissivity
+                   / (self.source_smallest_radius(i) * self.materials[p.material].rho
+                      * self.materials[p.material].cp / s)
+                   for i, p in enumerate(self.particles))
+        ratio = opts["every"] * dt * 4.0 * SIGMA * T_max ** 3 * rate
+        if ratio > 1.0:
+            raise GsiInputError(
+                f"dem.radiation_every = {opts['every']}: the explicit radiation update is "
+                f"unstable (radiation_every x dt x 4 eps sigma T^3 A/(m c_p) = {ratio:.3g} > 1 "
+                f"at T = {T_max:g} K); use dem.radiation_every <= "
+                f"{max(1, int(opts['every'] / ratio))} or a smaller run.dt")
 
     # ------------------------------------------------------------------ quick form
     def quick_variant(self) -> "Case":

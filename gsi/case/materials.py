@@ -37,6 +37,9 @@ class Material:
     mu_r: float = param(0.0, unit="-", check=nonnegative(), doc="rolling friction")
     k: float = param(1.0, unit="W/(m K)", check=positive(), doc="thermal conductivity")
     cp: float = param(1000.0, unit="J/(kg K)", check=positive(), doc="specific heat capacity")
+    emissivity: Optional[float] = param(None, unit="-", check=between(0.0, 1.0),
+                                        doc="emissivity for dem.radiation (none: does not "
+                                            "radiate; every particle material needs one)")
 
     def to_dem(self, *, heat_scale: float = 1.0):
         """The :class:`gsi.dem.Material`; ``heat_scale`` s divides c_p (heat-capacity

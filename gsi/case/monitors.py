@@ -19,6 +19,11 @@ Each ``[[monitors]]`` table is one :class:`Monitor`; its ``kind`` says what it m
 ``particles``
     Count, particles lost, kinetic energy (J), contacts, and the top of the bed (m, along
     -gravity).
+``mixing``
+    Lacey's mixing index of species A (``group``) against all other particles, on a grid
+    of ``cells`` sample cells over the box ``region``; cells with fewer than ``min_count``
+    particles are left out (:func:`gsi.dem.mixing.lacey_index`). 0: segregated, 1:
+    randomly mixed. Also the number of cells kept and their mean count.
 
 A monitor samples every ``interval`` seconds of simulated time (default: the output
 interval); the runner makes sure a sample falls on each multiple of it.
@@ -37,7 +42,7 @@ from gsi.errors import GsiInputError
 
 __all__ = ["Monitor", "MONITOR_KINDS"]
 
-MONITOR_KINDS = ("wall", "discharge", "temperature", "structure", "particles")
+MONITOR_KINDS = ("wall", "discharge", "temperature", "structure", "particles", "mixing")
 
 _COLUMNS = {
     "wall": ["Fx_N", "Fy_N", "Fz_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"],
@@ -46,6 +51,7 @@ _COLUMNS = {
     "structure": ["max_displacement_m", "max_von_mises_Pa", "T_mean_K", "load_x_N",
                   "load_y_N", "load_z_N"],
     "particles": ["count", "lost", "kinetic_energy_J", "contacts", "bed_top_m"],
+    "mixing": ["lacey", "cells", "mean_count"],
 }
 
 
@@ -56,8 +62,13 @@ class Monitor:
     name: str = param(doc="name of the series (file monitors/<name>.csv)")
     kind: str = param(check=one_of(*MONITOR_KINDS), doc="what it measures")
     target: Optional[str] = param(None, doc="wall or structure name (wall, structure)")
-    group: Optional[str] = param(None, doc="particle source name (temperature)")
-    region: Optional[Region] = param(None, doc="region of the particles (temperature)")
+    group: Optional[str] = param(None, doc="particle source name (temperature; mixing: "
+                                 "species A)")
+    region: Optional[Region] = param(None, doc="region of the particles (temperature); "
+                                     "sampled box (mixing)")
+    cells: Optional[tuple[int, ...]] = param(None, length=3,
+                                             doc="sample cells along x, y, z (mixing)")
+    min_count: int = param(4, check=positive(), doc="fewest particles of a kept cell (mixing)")
     point: tuple[float, ...] = param((0.0, 0.0, 0.0), unit="m", length=3,
                                      doc="torque reference point (wall); plane point (discharge)")
     normal: Optional[tuple[float, ...]] = param(None, unit="-", length=3,
@@ -67,7 +78,8 @@ class Monitor:
 
     def validate(self, path: str) -> None:
         need = {"wall": ("target",), "structure": ("target",), "discharge": ("normal",),
-                "temperature": (), "particles": ()}[self.kind]
+                "temperature": (), "particles": (),
+                "mixing": ("group", "region", "cells")}[self.kind]
         for key in need:
             if getattr(self, key) is None:
                 raise GsiInputError(f"{path}.{key}: missing; a '{self.kind}' monitor needs "
@@ -75,6 +87,13 @@ class Monitor:
         if self.kind == "temperature" and (self.group is None) == (self.region is None):
             raise GsiInputError(f"{path}: a 'temperature' monitor needs exactly one of group "
                                 f"or region")
+        if self.kind == "mixing":
+            if self.region.kind != "box":
+                raise GsiInputError(f"{path}.region.kind = {self.region.kind!r}: a 'mixing' "
+                                    f"monitor samples a box; use kind = 'box'")
+            if any(c < 1 for c in self.cells):
+                raise GsiInputError(f"{path}.cells = {list(self.cells)}: must be three "
+                                    f"integers >= 1")
         if self.kind == "discharge" and not any(self.normal):
             raise GsiInputError(f"{path}.normal = {list(self.normal)}: must be a nonzero vector")
 
@@ -92,6 +111,9 @@ class Monitor:
         if self.kind == "structure" and self.target not in structures:
             raise GsiInputError(f"{path}.target = {self.target!r}: no structure of that name; "
                                 f"known: {', '.join(sorted(structures)) or 'none'}")
+        if self.kind == "mixing" and self.group not in groups:
+            raise GsiInputError(f"{path}.group = {self.group!r}: no [[particles]] of that "
+                                f"name; known: {', '.join(sorted(groups)) or 'none'}")
         if self.kind == "temperature":
             if self.group is not None and self.group not in groups:
                 raise GsiInputError(f"{path}.group = {self.group!r}: no [[particles]] of that "
@@ -138,6 +160,12 @@ class Monitor:
             T = sim.T[rows]
             return [float((mcp * T).sum() / mcp.sum()), float(T.min()), float(T.max()),
                     len(rows)]
+        if self.kind == "mixing":
+            from gsi.dem.mixing import lacey_index
+            is_a = np.isin(sim.ids, run.group_ids(self.group))
+            M, kept, mean = lacey_index(sim.x, is_a, self.region.lo, self.region.hi,
+                                        self.cells, min_count=self.min_count)
+            return [M, kept, mean]
         # particles
         g = np.asarray(run.case.dem.gravity, float)
         up = -g / np.linalg.norm(g) if np.any(g) else np.array([0.0, 0.0, 1.0])

@@ -5,13 +5,13 @@ import re
 from dataclasses import dataclass
 from typing import Optional
 
-from gsi.config.schema import nonnegative, one_of, param, positive
+from gsi.config.schema import Check, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
 __all__ = ["CaseInfo", "Run", "Dem", "Output", "CONTACT_LAWS", "HEAT_MODELS"]
 
 CONTACT_LAWS = ("hertz", "linear")
-HEAT_MODELS = ("none", "area", "radius", "constant")
+HEAT_MODELS = ("none", "area", "radius", "constant", "pipe")
 #: a case name is used in file names: letters, digits, '_', '-', '.' (no path separators)
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
 
@@ -54,7 +54,8 @@ class Run:
 
 @dataclass(kw_only=True)
 class Dem:
-    """``[dem]``: contact law, rolling resistance, heat model, neighbour skin, gravity, domain."""
+    """``[dem]``: contact law, rolling resistance, heat model, radiation, neighbour skin,
+    gravity, domain."""
 
     contact: str = param("hertz", check=one_of(*CONTACT_LAWS), doc="contact law")
     k_n: Optional[float] = param(None, unit="N/m", check=positive(),
@@ -63,6 +64,23 @@ class Dem:
     heat: str = param("none", check=one_of(*HEAT_MODELS), doc="particle conduction model")
     h_c: Optional[float] = param(None, unit="W/K", check=positive(),
                                  doc="conductance of the 'constant' heat model")
+    pipe_length: Optional[float] = param(None, unit="m", check=positive(),
+                                         doc="pipe length w of the 'pipe' heat model (Feng's "
+                                             "pipe network, a 2D model: the slab thickness)")
+    pipe_resistance: float = param(0.0, unit="K m/W", check=nonnegative(),
+                                   doc="contact resistance per length R_c* of the 'pipe' model")
+    radiation: bool = param(False, doc="particle-particle and particle-wall radiation (seed 000 "
+                                       "eqs. 22-23; emissivity per [materials.X])")
+    radiation_cutoff: Optional[float] = param(
+        None, unit="-", check=Check(lambda v: v >= 1.0, "must be >= 1"),
+        doc="radiation neighbours closer than this x (R_i + R_j) between centres, walls "
+            "closer than this x R_i (default 1.5)")
+    radiation_every: Optional[int] = param(
+        None, check=positive(),
+        doc="DEM steps per radiation evaluation, applied over that interval (default 1)")
+    radiation_T_enclosure: Optional[float] = param(
+        None, unit="K", check=nonnegative(),
+        doc="black enclosure seen by particles with no radiation neighbour (default: none)")
     skin: Optional[float] = param(None, unit="m", check=positive(),
                                   doc="Verlet skin (default 0.4 x the smallest radius)")
     gravity: tuple[float, ...] = param((0.0, 0.0, -9.81), unit="m/s^2", length=3,
@@ -81,6 +99,14 @@ class Dem:
         if self.heat == "constant" and self.h_c is None:
             raise GsiInputError(f"{path}.h_c: missing; the constant heat model needs a "
                                 f"conductance (W/K)")
+        if not self.radiation:
+            for key in ("radiation_cutoff", "radiation_every", "radiation_T_enclosure"):
+                if getattr(self, key) is not None:
+                    raise GsiInputError(f"{path}.{key}: set, but {path}.radiation = false; set "
+                                        f"{path}.radiation = true or remove it")
+        if self.heat == "pipe" and self.pipe_length is None:
+            raise GsiInputError(f"{path}.pipe_length: missing; the pipe heat model needs the "
+                                f"pipe length w (m), e.g. the slab thickness of a quasi-2D run")
 
     @property
     def domain_size(self) -> float:

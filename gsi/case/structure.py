@@ -59,7 +59,8 @@ from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 from gsi.fem.options import AUTO_ITERATIVE_DOFS, SOLVERS, petsc_option_strings
 
-__all__ = ["Structure", "Load", "Convection", "FixedTemperature", "Flux", "StructureThermal",
+__all__ = ["Structure", "Load", "Convection", "FixedTemperature", "Flux", "Radiation",
+           "StructureThermal",
            "Contact", "CoupledStructure"]
 
 Vec3 = tuple[float, ...]
@@ -134,6 +135,17 @@ class Flux:
 
 
 @dataclass(kw_only=True)
+class Radiation:
+    """Radiation eps sigma (T^4 - T_ambient^4) out through a tag (explicit in T)."""
+
+    tag: str = param(doc="surface tag")
+    emissivity: float = param(unit="-", check=between(0.0, 1.0, open_lo=True),
+                              doc="surface emissivity")
+    T_ambient: float = param(unit="K", check=nonnegative(),
+                             doc="temperature of the surroundings it radiates to")
+
+
+@dataclass(kw_only=True)
 class StructureThermal:
     """Heat in the structure (``[structures.thermal]``)."""
 
@@ -149,6 +161,9 @@ class StructureThermal:
     fixed: list[FixedTemperature] = param(default_factory=list,
                                           doc="[[structures.thermal.fixed]] tag, T")
     flux: list[Flux] = param(default_factory=list, doc="[[structures.thermal.flux]] tag, q")
+    radiation: list[Radiation] = param(default_factory=list,
+                                       doc="[[structures.thermal.radiation]] tag, emissivity, "
+                                           "T_ambient")
     petsc: dict[str, Any] = param(default_factory=dict,
                                   doc="PETSc options of the heat solver without the '-', "
                                       "e.g. {ksp_rtol = 1e-12}")
@@ -156,7 +171,8 @@ class StructureThermal:
     def tags_used(self) -> list[tuple[str, str]]:
         return ([(f"thermal.convection[{i}].tag", c.tag) for i, c in enumerate(self.convection)]
                 + [(f"thermal.fixed[{i}].tag", c.tag) for i, c in enumerate(self.fixed)]
-                + [(f"thermal.flux[{i}].tag", c.tag) for i, c in enumerate(self.flux)])
+                + [(f"thermal.flux[{i}].tag", c.tag) for i, c in enumerate(self.flux)]
+                + [(f"thermal.radiation[{i}].tag", c.tag) for i, c in enumerate(self.radiation)])
 
 
 @dataclass(kw_only=True)
@@ -225,8 +241,9 @@ class Structure:
                                            doc="sets a0 = 2 zeta omega_1 instead of rayleigh[0]")
     self_weight: bool = param(False, doc="load the structure with its own weight (gravity)")
     solver: str = param("auto", check=one_of(*SOLVERS),
-                        doc="linear solver: direct (MUMPS, factorized once), iterative (CG + "
-                            "algebraic multigrid, built once) or auto (iterative from "
+                        doc="linear solver: direct (MUMPS; SuperLU_DIST on several ranks; "
+                            "factorized once), iterative (CG + algebraic multigrid, built "
+                            "once) or auto (iterative from "
                             f"{AUTO_ITERATIVE_DOFS['elasticity']} dofs)")
     petsc: dict[str, Any] = param(default_factory=dict,
                                   doc="PETSc options of the elasticity solver without the '-', "
@@ -530,6 +547,8 @@ class Structure:
                 heat.fix_temperature(fx.tag, fx.T)
             for fl in th.flux:
                 heat.set_flux(fl.tag, fl.q)
+            for rd in th.radiation:
+                heat.set_radiation(rd.tag, rd.emissivity, rd.T_ambient)
             heat.check_stability()          # theta < 0.5: dt_FE under the explicit limit
         itf = SurfaceInterface(el, heat=heat, tag=co.tags)
         return CoupledStructure(

@@ -156,6 +156,23 @@ class CoupledStructure:
             return IntervalRecord(self.name, self.t, mech, rec)
         return IntervalRecord(self.name, self.t, rec, None)
 
+    def load_heat(self) -> None:
+        """First part of :meth:`finish` for a structure in an FE-FE thermal contact group
+        (collective): forces, motion and the particles' heat in; the heat is stepped by the
+        group (:class:`gsi.fem.contact_heat.ContactHeatSystem`), then :meth:`record`."""
+        self.thermal.load_heat()
+
+    def record(self) -> IntervalRecord:
+        """Last part of :meth:`finish` after the group's heat step (collective)."""
+        rec = self.thermal.record()
+        mech = self.mechanics.records[-1] if self.mechanics is not None else None
+        return IntervalRecord(self.name, self.t, mech, rec)
+
+    @property
+    def contact_group(self):
+        """The FE-FE thermal contact group that steps this structure's heat, or None."""
+        return None if self.heat is None else self.heat.contact_system
+
     def step(self, sim) -> IntervalRecord:
         """One interval on its own: begin, ``sim.step(n_sub)`` on root, finish."""
         self.begin()
@@ -234,8 +251,10 @@ class CoupledStructure:
         if self.thermal is not None and self.thermal.records:
             h = self.thermal.history()
             out.update(Q_particles=float(h["Q_particles"].sum()),
+                       Q_radiation=float(h["Q_radiation"].sum()),
                        Q_structure=float(h["Q_structure"].sum()),
                        Q_boundary_loss=float(h["Q_boundary_loss"].sum()),
+                       Q_contact=float(h["Q_contact"].sum()),
                        heat_balance_max=float(np.abs(h["balance_error"]).max()),
                        drift_max=float(np.abs(h["drift"]).max()))
         return out

@@ -32,15 +32,21 @@ dt_FE = n_sub dt_DEM:
 
 Energy record, per coupling step (``CouplingStep``; also ``energy.csv``):
 
-* ``Q_particles`` heat leaving the particles into this wall over the step (J),
+* ``Q_particles`` heat leaving the particles into this wall over the step (J), conduction
+  and (``dem.radiation``, :mod:`gsi.dem.radiation`) radiation; ``Q_radiation`` the
+  radiated part of it (J),
   ``Q_structure`` heat entering the structure through the nodal loads (J, summed over the
   owned dofs of all ranks), ``balance_error`` = Q_structure - Q_particles (round-off);
 * ``Q_boundary_loss`` heat leaving the structure through its boundary over the step (J):
   convection/flux tags theta-weighted exactly as the theta-scheme applies them, plus the
-  Dirichlet residual flow on fixed-temperature tags;
+  Dirichlet residual flow on fixed-temperature tags, plus the radiation of radiating tags
+  (explicit, at T_n, as the step applies it);
 * ``E_particles`` = sum m c_p (T - T_ref), ``E_structure`` = int rho c (T - T_ref) dx (J);
+* ``Q_contact`` heat entering the structure over the step through its FE-FE thermal
+  contacts with other structures (J; :mod:`gsi.fem.contact_heat`, 0 without);
 * ``drift`` = E_particles + E_structure + (cumulative boundary loss) - (initial
-  E_particles + E_structure) - (cumulative heat from DEM planes with a temperature) (J):
+  E_particles + E_structure) - (cumulative heat from DEM planes with a temperature)
+  - (cumulative Q_contact) - (cumulative heat from the radiation enclosure) (J):
   zero to round-off while no particle leaves the domain or is inserted, and while this
   is the only heated wall of the DEM (with two coupled structures on one DEM the
   particles' energy also changes by the other's heat; ``balance_error`` still holds
@@ -63,7 +69,11 @@ scaled.
 
 Split step: :meth:`ThermalCoupling.step` is :meth:`~ThermalCoupling.begin`,
 ``sim.step(n_sub)`` on ``root`` and :meth:`~ThermalCoupling.finish`, as for
-:class:`gsi.coupling.staggered.StaggeredCoupling`.
+:class:`gsi.coupling.staggered.StaggeredCoupling`. :meth:`~ThermalCoupling.finish` is
+itself :meth:`~ThermalCoupling.load_heat` (loads in), the heat step and
+:meth:`~ThermalCoupling.record`; structures joined by FE-FE thermal contacts
+(:class:`gsi.fem.contact_heat.ContactHeatSystem`) take all their loads first, then step
+together, then record.
 """
 from __future__ import annotations
 
@@ -101,11 +111,14 @@ class CouplingStep:
     t: float                 # s, simulated time at the end of the step
     t_thermal: float         # s, time of the physical system (time_scale * t)
     Q_particles: float       # J, heat leaving the particles into the wall over the step
+    Q_radiation: float       # J, the part of Q_particles carried by radiation
     Q_structure: float       # J, heat entering the structure through the nodal loads
     balance_error: float     # J, Q_structure - Q_particles
     heat_flow: float         # W, Q_structure / dt_FE: heat flow into the wall
     Q_boundary_loss: float   # J, heat leaving the structure through its boundary (convection)
-    Q_planes: float          # J, heat from DEM planes with a temperature into the particles
+    Q_planes: float          # J, heat from DEM planes with a temperature (and the radiation
+                             # enclosure) into the particles
+    Q_contact: float         # J, heat into the structure from FE-FE contacts (other bodies)
     E_particles: float       # J, sum m c_p (T - T_ref)
     E_structure: float       # J, int rho c (T - T_ref) dx
     drift: float             # J, total energy drift since the start
@@ -226,6 +239,8 @@ class ThermalCoupling(RecordLog):
         self.t = 0.0
         self._cum_loss = 0.0
         self._cum_planes = 0.0
+        self._cum_contact = 0.0
+        self._pending = None
         self._E0 = None
         self._interval = None
         self._init_log(csv_path)
@@ -275,7 +290,8 @@ class ThermalCoupling(RecordLog):
         planes0 = None
         if self.is_root:
             self.wall.vertex_temperature = self.wall_temperature()
-            planes0 = [p.heat_to_particles for p in self.sim.planes]
+            planes0 = [p.heat_to_particles for p in self.sim.planes] + _radiation_totals(
+                self.sim, self.wall)
         if self.mechanics is not None:
             self.elasticity.set_temperature(self.heat.T)     # thermal strain of this solve: T_k
             self.mechanics.begin()
@@ -287,10 +303,17 @@ class ThermalCoupling(RecordLog):
     def finish(self) -> CouplingStep:
         """End the interval after the DEM's ``n_sub`` steps (collective): forces and motion
         (``mechanics``), heat loads to the FE, heat step to T_k+1. Returns the record."""
+        self.load_heat()
+        self.heat.step()
+        return self.record()
+
+    def load_heat(self) -> None:
+        """First part of :meth:`finish` (collective): forces and motion (``mechanics``), the
+        particles' heat to the FE as nodal loads; the heat problem is not stepped."""
         if self._interval is None:
             raise RuntimeError("ThermalCoupling.finish: call begin() first")
         planes0, self._interval = self._interval["planes0"], None
-        heat, el, mech, root, itf = self.heat, self.elasticity, self.mechanics, self.root, self.interface
+        heat, mech, root, itf = self.heat, self.mechanics, self.root, self.interface
         W = info = None
         if mech is not None:
             mech.finish()                               # loads, solve, wall
@@ -298,9 +321,12 @@ class ThermalCoupling(RecordLog):
             sim, wall = self.sim, self.wall
             W = itf.vertex_heat(wall.vertex_heat) / self.dt   # W into the structure
             E_p, T_mean, T_max = _particle_energy(sim, self.T_ref)
-            info = dict(Q_particles=-wall.heat_to_particles,
-                        Q_planes=sum(p.heat_to_particles - q0 for p, q0 in zip(sim.planes, planes0)
-                                     if p.temperature is not None),
+            rad_wall, rad_enc = (a - b for a, b in zip(_radiation_totals(sim, wall),
+                                                      planes0[len(sim.planes):]))
+            info = dict(Q_particles=-wall.heat_to_particles, Q_radiation=-rad_wall,
+                        Q_planes=rad_enc + sum(p.heat_to_particles - q0 for p, q0 in
+                                               zip(sim.planes, planes0)
+                                               if p.temperature is not None),
                         E_particles=E_p, T_pm=T_mean, T_px=T_max, n=int(sim.n),
                         nc=int(sim.contact_count()),
                         Fz=float(-wall.impulse_on_particles[2] / self.dt),
@@ -317,11 +343,23 @@ class ThermalCoupling(RecordLog):
         theta_tags = [n for n in flux_tags if n not in fixed]
         dir_tags = [n for n in flux_tags if n in fixed]
         inflow_old = self._boundary_inflow(theta_tags) if theta_tags else 0.0
-        heat.step()
+        self._pending = dict(info=info, theta_tags=theta_tags, dir_tags=dir_tags,
+                             inflow_old=inflow_old, n_steps=heat.n_steps)
+
+    def record(self) -> CouplingStep:
+        """Last part of :meth:`finish`, after the heat step (collective): the energy record
+        of the interval."""
+        pending, self._pending = getattr(self, "_pending", None), None
+        heat, el, itf = self.heat, self.elasticity, self.interface
+        if pending is None or heat.n_steps != pending["n_steps"] + 1:
+            raise RuntimeError("ThermalCoupling.record: needs load_heat() and one heat step")
+        info, theta_tags, dir_tags = pending["info"], pending["theta_tags"], pending["dir_tags"]
         Q_structure = heat.nodal_heat() * self.dt
+        Q_contact = self.comm.allreduce(float(heat.contact_heat.sum()), op=MPI.SUM) * self.dt
         inflow_new = self._boundary_inflow(theta_tags) if theta_tags else 0.0
-        inflow = heat.theta * inflow_new + (1.0 - heat.theta) * inflow_old
+        inflow = heat.theta * inflow_new + (1.0 - heat.theta) * pending["inflow_old"]
         inflow += self._boundary_inflow(dir_tags) if dir_tags else 0.0
+        inflow += sum(heat.radiation_heat_flow(n) for n in heat.radiation)
         Q_loss = -inflow * self.dt
         vm = disp = math.nan
         if el is not None:
@@ -332,17 +370,19 @@ class ThermalCoupling(RecordLog):
         self.t += self.dt
         self._cum_loss += Q_loss
         self._cum_planes += info["Q_planes"]
+        self._cum_contact += Q_contact
         E_s = self.structure_energy()
         E_p = info["E_particles"]
-        drift = E_p + E_s + self._cum_loss - self._cum_planes - self._E0
+        drift = E_p + E_s + self._cum_loss - self._cum_planes - self._cum_contact - self._E0
         _, T_max = heat.min_max()
         m = heat.material
         rec = CouplingStep(
             step=self.step_count, t=self.t, t_thermal=self.time_scale * self.t,
-            Q_particles=info["Q_particles"], Q_structure=Q_structure,
+            Q_particles=info["Q_particles"], Q_radiation=info["Q_radiation"],
+            Q_structure=Q_structure,
             balance_error=Q_structure - info["Q_particles"], heat_flow=Q_structure / self.dt,
-            Q_boundary_loss=Q_loss, Q_planes=info["Q_planes"], E_particles=E_p,
-            E_structure=E_s, drift=drift, T_wall_max=T_max,
+            Q_boundary_loss=Q_loss, Q_planes=info["Q_planes"], Q_contact=Q_contact,
+            E_particles=E_p, E_structure=E_s, drift=drift, T_wall_max=T_max,
             T_wall_mean=self.T_ref + E_s / (m.rho * m.c * heat.volume()),
             T_contact_max=float(self._T_surf.max()), T_particles_mean=info["T_pm"],
             T_particles_max=info["T_px"], max_von_mises=vm, max_displacement=disp,
@@ -389,14 +429,16 @@ class ThermalCoupling(RecordLog):
                                     iv is not None and iv["planes0"] is not None,
                                     getattr(self, "_dem_step0", -1)], np.int64),
                  scalars=np.array([self.t, self._cum_loss, self._cum_planes,
-                                   math.nan if self._E0 is None else self._E0], np.float64),
+                                   math.nan if self._E0 is None else self._E0,
+                                   self._cum_contact], np.float64),
                  T_surf=np.array(self._T_surf), planes0=np.array(planes0, np.float64))
         return d
 
     def set_state(self, d: dict) -> None:
         """Restore :meth:`state` (no MPI call, nothing recomputed)."""
         self.step_count, is_open, has_planes, dem_step0 = (int(v) for v in d["counters"])
-        self.t, self._cum_loss, self._cum_planes, E0 = (float(v) for v in d["scalars"])
+        self.t, self._cum_loss, self._cum_planes, E0, self._cum_contact = (
+            float(v) for v in d["scalars"])
         self._E0 = None if math.isnan(E0) else E0
         self._T_surf = np.array(d["T_surf"])
         self._set_records_state(d)
@@ -404,6 +446,15 @@ class ThermalCoupling(RecordLog):
                           if is_open else None)
         if self.is_root and dem_step0 >= 0:
             self._dem_step0 = dem_step0
+
+
+def _radiation_totals(sim, wall):
+    """[heat radiated from ``wall`` into the particles, heat from the radiation enclosure]
+    since the start (J; zeros without radiation)."""
+    rad = sim.radiation
+    if rad is None:
+        return [0.0, 0.0]
+    return [rad.heat_from(wall), rad.enclosure_heat]
 
 
 def _particle_energy(sim, T_ref):

@@ -29,6 +29,11 @@ One DEM step (velocity Verlet, DESIGN.md "DEM physics"):
 Steps 4 and the next step's 1-2 run inside :func:`contact_forces`, slab by slab as the
 forces complete, so a step has two parallel regions; only the first step of a call to
 :func:`advance` drifts on its own.
+
+The contact log (:mod:`gsi.dem.contact_log`) is compiled in only when ``LOG_ON`` (the
+engine variant ``log=True``; numba removes the branches otherwise): a sampled step
+ends before the next one drifts (same arithmetic, not fused), and the log samples the
+contacts of its force pass.
 """
 import math
 
@@ -36,6 +41,7 @@ import numpy as np
 
 from gsi.jit import njit, pjit, prange
 from gsi.dem.contact_geometry import sphere_pair, pair_radius2, wall_radius2, plane_distance
+from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
                                reduce_scans, verdict)
 from gsi.dem.mesh_dedup import select_triangle_contacts
@@ -45,7 +51,7 @@ from gsi.dem.wall_kernels import move_walls, plane_sums, mesh_scatter
 # <<ENGINE-LAWS (replaced by gsi.dem.engine_factory)
 raise ImportError(
     "gsi.dem.engine is the template of the generated engines, not an engine: use "
-    "gsi.dem.engine_factory.get_engine(contact, rolling, heat)")
+    "gsi.dem.engine_factory.get_engine(contact, rolling, heat, log)")
 # ENGINE-LAWS>>
 
 
@@ -77,7 +83,7 @@ def wall_contact(i, nx, ny, nz, lever, delta, wvx, wvy, wvz, P, ri, Ti, tab, row
         tz += Mz
     Qw = 0.0
     if HEAT_ON and has_T:
-        Qw = COND(wall_radius2(ri, delta), tab, row) * (T_w - Ti)
+        Qw = COND(wall_radius2(ri, delta), ri, math.inf, tab, row) * (T_w - Ti)
     return cfx, cfy, cfz, tx, ty, tz, Qw
 
 
@@ -168,7 +174,7 @@ def pair_contacts(i, P, pairs, tab, row_i, dt):
         P.ncontact[j] += 1
         nc += 1
         if HEAT_ON:
-            Qp = COND(pair_radius2(ri, rj, L2, inv_L), tab, row) * (P.T[j] - Ti)
+            Qp = COND(pair_radius2(ri, rj, L2, inv_L), ri, rj, tab, row) * (P.T[j] - Ti)
             qi += Qp
             P.q[j] -= Qp
     return fx, fy, fz, tx, ty, tz, qi, nc
@@ -421,17 +427,21 @@ def contact_forces(mode, dt, P, pairs, pl, M, wc, table, pl_acc, gx, gy, gz, lo,
 
 @njit
 def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs, pl, M, wc,
-            table):
+            table, lg):
     """Run up to ``nsteps`` steps; stop early when the caller must act.
 
     Each step is the force pass (:func:`contact_forces`, which also ends this step and,
     unless it is the last one, starts the next: kick, drift, clear, scan), then the
-    serial wall sums and the wall motion.
+    serial wall sums and the wall motion.  ``lg`` is the contact log's
+    :data:`gsi.dem.contact_log.LogState` (read only by a ``LOG_ON`` engine: the step
+    ``lg.ctrl[C_STEP] + s + 1 == lg.ctrl[C_NEXT]`` is sampled).
 
     Returns ``(steps_done, code, info)``: code 0 all done; 1 a rebuild is needed
     (the step ``steps_done`` has drifted; resume it with ``skip_first_drift``);
     2 ``info`` particles left the domain (same resume); 3 particle ``info`` blew up
-    (NaN or speed above sqrt(vmax2)) at step ``steps_done``.
+    (NaN or speed above sqrt(vmax2)) at step ``steps_done``; 4 (``LOG_ON``) the log has
+    no room for the sample of step ``steps_done``, which is complete and not drifted:
+    grow the log, sample, resume without ``skip_first_drift``.
     """
     half_dt = 0.5 * dt
     npl = pl.point.shape[0]
@@ -450,6 +460,11 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
             return 0, code, info
     for s in range(nsteps):
         mode = 1 if s == nsteps - 1 else 2
+        sampled = False
+        if LOG_ON:
+            if lg.ctrl[C_STEP] + s + 1 == lg.ctrl[C_NEXT]:
+                sampled = True
+                mode = 1
         scan_out[:, 0] = 0.0
         scan_out[:, 1] = 0.0
         scan_out[:, 2] = -1.0
@@ -459,6 +474,20 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
             plane_sums(dt, pl_acc, pl)
         if nv > 0:
             mesh_scatter(dt, wc, M)
+        if LOG_ON:
+            if sampled:
+                if not has_room(P, pairs, wc, lg):
+                    return s + 1, 4, 0
+                sample(P, pairs, pl, M, wc, lg)
+                if s < nsteps - 1:
+                    # the next step's drift, as at the start of a call
+                    initial_integrate(P, half_dt, dt, g[0], g[1], g[2])
+                    wd2 = move_walls(dt, pl, M)
+                    d2, nout, bad = scan(P, lo, hi, vmax2)
+                    code, info = verdict(d2, wd2, nout, bad, half_skin2)
+                    if code != 0:
+                        return s + 1, code, info
+                continue
         if mode == 2:
             # the next step has drifted: its walls move, then the scan decides
             wd2 = move_walls(dt, pl, M)
@@ -499,7 +528,7 @@ def heat_conductance_sum(P, pairs, pl, M, wc, table):
                 x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2], ri, rj)
             if not touch:
                 continue
-            H = COND(pair_radius2(ri, rj, L2, inv_L), tab, row_i + P.type[j])
+            H = COND(pair_radius2(ri, rj, L2, inv_L), ri, rj, tab, row_i + P.type[j])
             Hs[i] += H
             Hs[j] += H
         for p in range(pl.point.shape[0]):
@@ -510,7 +539,7 @@ def heat_conductance_sum(P, pairs, pl, M, wc, table):
                                   pl.normal[p, 2])
             delta = ri - dist
             if delta > 0.0:
-                Hs[i] += COND(wall_radius2(ri, delta), tab, row_i + pl.type[p])
+                Hs[i] += COND(wall_radius2(ri, delta), ri, math.inf, tab, row_i + pl.type[p])
         for s in range(wc.count[i]):
             wl = M.tri_wall[wc.tri[i, s]]
             if not M.wall_has_T[wl]:
@@ -520,5 +549,5 @@ def heat_conductance_sum(P, pairs, pl, M, wc, table):
                 d2 += (wc.point[i, s, d] - x[i, d]) ** 2
             delta = ri - math.sqrt(d2)
             if delta > 0.0:
-                Hs[i] += COND(wall_radius2(ri, delta), tab, row_i + M.wall_type[wl])
+                Hs[i] += COND(wall_radius2(ri, delta), ri, math.inf, tab, row_i + M.wall_type[wl])
     return Hs

@@ -36,7 +36,8 @@ def engine_dir():
 
 #: modules (beside this file) whose compiled code is linked into an engine
 ENGINE_MODULES = ("engine.py", "heat.py", "geometry.py", "materials.py", "state.py",
-                  "integrate.py", "wall_kernels.py", "mesh_dedup.py", "contact_geometry.py")
+                  "integrate.py", "wall_kernels.py", "mesh_dedup.py", "contact_geometry.py",
+                  "contact_log.py")
 
 
 def engine_sources():
@@ -62,8 +63,9 @@ def sources_digest():
     return h.hexdigest()[:16]
 
 
-def get_engine(contact="hertz", rolling=False, heat=None):
-    """The engine module for a contact law, rolling law and heat model (by registry name).
+def get_engine(contact="hertz", rolling=False, heat=None, log=False):
+    """The engine module for a contact law, rolling law and heat model (by registry name),
+    with or without the contact log.
 
     Parameters
     ----------
@@ -72,7 +74,10 @@ def get_engine(contact="hertz", rolling=False, heat=None):
     rolling : bool or str
         Key of :data:`gsi.dem.contact.ROLLING_LAWS` (False, True/"cdt").
     heat : str or None
-        Key of :data:`gsi.dem.heat.HEAT_MODELS` (None, "area", "radius", "constant").
+        Key of :data:`gsi.dem.heat.HEAT_MODELS` (None, "area", "radius", "constant", "pipe").
+    log : bool
+        Compile the contact log in (:mod:`gsi.dem.contact_log`; a separate module, so an
+        engine without it is unchanged).
     """
     if contact not in CONTACT_LAWS:
         raise GsiInputError(f"contact = {contact!r}: must be one of {sorted(CONTACT_LAWS)}")
@@ -80,9 +85,10 @@ def get_engine(contact="hertz", rolling=False, heat=None):
         raise GsiInputError(f"rolling = {rolling!r}: must be false, true or 'cdt'")
     if heat not in HEAT_MODELS:
         raise GsiInputError(
-            f"heat = {heat!r}: must be one of None, 'area', 'radius', 'constant'")
+            f"heat = {heat!r}: must be one of None, 'area', 'radius', 'constant', 'pipe'")
     rolling_key = "cdt" if rolling is True else rolling
-    key = (contact, rolling_key, heat)
+    log = bool(log)
+    key = (contact, rolling_key, heat, log)
     if key in _ENGINES:
         return _ENGINES[key]
     law_mod, law_fn = CONTACT_LAWS[contact]
@@ -96,10 +102,12 @@ def get_engine(contact="hertz", rolling=False, heat=None):
         f"from {heat_mod} import {heat_fn} as COND\n"
         f"ROLL_ON = {bool(rolling)}\n"
         f"HEAT_ON = {heat is not None}\n"
+        f"LOG_ON = {log}\n"
         "# ENGINE-LAWS>>")
     template = pathlib.Path(__file__).with_name("engine.py").read_text()
     source = _BLOCK.sub(lambda m: header, template, count=1)
-    name = f"gsi_engine_{contact}_{rolling_key or 'noroll'}_{heat or 'noheat'}"
+    name = (f"gsi_engine_{contact}_{rolling_key or 'noroll'}_{heat or 'noheat'}"
+            f"{'_log' if log else ''}")
     path = pathlib.Path(engine_dir()) / f"{name}.py"
     if not path.exists() or path.read_text() != source:
         tmp = path.with_suffix(f".tmp{os.getpid()}")

@@ -5,36 +5,78 @@ Q_ij = H_ij (T_j - T_i) with contact radius a (a^2 given, m^2):
 - ``area``     H = 4 k_i k_j/(k_i + k_j) sqrt(A), A = pi a^2   (LIGGGHTS, Haydar et al.)
 - ``radius``   H = 4 k_i k_j/(k_i + k_j) a                       (Batchelor & O'Brien)
 - ``constant`` H = h_c                                          (teaching codes)
+- ``pipe``     H = w/(R_i + R_j + R_c*)                         (Feng et al.'s pipe network)
 
-A model is ``H(a2, tab, row) -> W/K`` reading row ``row`` of the flattened pair table.  Keep heat terms
-additive: another term (radiation) is a further sum in the engine.
+``pipe`` is the discrete thermal element of Feng, Han, Li and Owen (J. Comput. Phys. 227,
+2008; Powder Technol. 193, 2009) as the FDEM contact-heat paper (seed 002, section 5)
+states it: each particle is a long cylinder (a "pipe") of radius r and length w whose
+contact is an arc of half angle alpha, sin alpha = a/r, with the thermal resistance per
+unit length
+
+    R_A = (1/(pi k_A)) (-ln alpha_A + 3/2 + alpha_A^2/36)      (K m/W),
+
+accurate for alpha < 30 degrees; the pair adds a contact resistance R_c* (K m/W, the
+``pipe_resistance``) and conducts H = w/(R_A + R_B + R_c*) through a length w
+(``pipe_length``). The model is two-dimensional: it suits discs (quasi-2D runs, the
+thesis's slab one diameter thick, w the slab thickness) rather than spheres. A wall has
+no pipe resistance (R = 0 for an infinite radius): its conduction is the FE's.
+
+A model is ``H(a2, ri, rj, tab, row) -> W/K`` with the radii of the two bodies (m; a wall
+is ``inf``), reading row ``row`` of the flattened pair table. Keep heat terms additive:
+another term (radiation) is a further sum in the engine.
+
+The models are inlined into the engine (``inline="always"``): called as separate compiled
+functions they cost about 0.7 us per touching pair (measured on the quasi-2D drum of
+seed 001 case 6, 336 particles: 0.76 ms per step against 0.24 ms inlined), which made
+every heat run about three times slower than the same run without heat.
 """
 import math
 
 from gsi.jit import njit
-from gsi.dem.materials import P_KH, P_HC
+from gsi.dem.materials import P_HC, P_K_I, P_K_J, P_KH, P_PIPE_R, P_PIPE_W
 
 
-@njit
-def area(a2, tab, row):
+@njit(inline="always")
+def area(a2, ri, rj, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) sqrt(pi a^2) (W/K)."""
     return tab[row, P_KH] * math.sqrt(math.pi * a2) if a2 > 0.0 else 0.0
 
 
-@njit
-def radius(a2, tab, row):
+@njit(inline="always")
+def radius(a2, ri, rj, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) a (W/K)."""
     return tab[row, P_KH] * math.sqrt(a2) if a2 > 0.0 else 0.0
 
 
-@njit
-def constant(a2, tab, row):
+@njit(inline="always")
+def constant(a2, ri, rj, tab, row):
     """H = h_c (W/K) for every touching pair."""
     return tab[row, P_HC]
 
 
-@njit
-def none(a2, tab, row):
+@njit(inline="always")
+def pipe_resistance(a, r, k):
+    """Feng's pipe resistance per length (K m/W) of a cylinder of radius ``r`` (m) and
+    conductivity ``k`` whose contact half-chord is ``a`` (m); 0 for r = inf (a wall)."""
+    if math.isinf(r):
+        return 0.0
+    alpha = math.asin(min(a / r, 1.0))
+    return (-math.log(alpha) + 1.5 + alpha * alpha / 36.0) / (math.pi * k)
+
+
+@njit(inline="always")
+def pipe(a2, ri, rj, tab, row):
+    """H = w/(R_i + R_j + R_c*) (W/K), Feng's pipe network (module docstring)."""
+    if a2 <= 0.0:
+        return 0.0
+    a = math.sqrt(a2)
+    R = (pipe_resistance(a, ri, tab[row, P_K_I]) + pipe_resistance(a, rj, tab[row, P_K_J])
+         + tab[row, P_PIPE_R])
+    return tab[row, P_PIPE_W] / R
+
+
+@njit(inline="always")
+def none(a2, ri, rj, tab, row):
     """No conduction."""
     return 0.0
 
@@ -44,4 +86,5 @@ HEAT_MODELS = {
     "area": ("gsi.dem.heat", "area"),
     "radius": ("gsi.dem.heat", "radius"),
     "constant": ("gsi.dem.heat", "constant"),
+    "pipe": ("gsi.dem.heat", "pipe"),
 }

@@ -18,6 +18,9 @@ Pair values (column constants ``P_*`` index the last axis of the table):
 - ``P_HC``   constant conductance h_c of the ``constant`` heat model          (W/K)
 - ``P_E_REST`` the pair restitution e                                       (-)
 - ``P_ST_SN`` sqrt(S_t/S_n) = sqrt(4 G*/E*), saves a square root per contact (-)
+- ``P_K_I``, ``P_K_J`` the conductivities k_i, k_j of the two types (W/(m K))
+- ``P_PIPE_W`` length w of the pipes of the ``pipe`` heat model (m)
+- ``P_PIPE_R`` contact resistance R_c* of the ``pipe`` heat model, per length (K m/W)
 
 Mixing rule (chosen here, LIGGGHTS asks for a full matrix instead): a pair of
 different materials takes the geometric mean of e, mu and mu_r, so a frictionless
@@ -30,8 +33,9 @@ import numpy as np
 
 from gsi.errors import GsiInputError
 
-P_E, P_G, P_BETA, P_MU, P_MUR, P_KH, P_KN, P_HC, P_E_REST, P_ST_SN = range(10)
-N_PAIR = 10
+(P_E, P_G, P_BETA, P_MU, P_MUR, P_KH, P_KN, P_HC, P_E_REST, P_ST_SN, P_K_I, P_K_J, P_PIPE_W,
+ P_PIPE_R) = range(14)
+N_PAIR = 14
 
 
 @dataclass(frozen=True)
@@ -113,7 +117,8 @@ def rayleigh_time(R, mat):
     return math.pi * R * math.sqrt(mat.rho / mat.G) / (0.1631 * mat.nu + 0.8766)
 
 
-def pair_table(materials, *, k_n=0.0, h_c=0.0, pair_overrides=None):
+def pair_table(materials, *, k_n=0.0, h_c=0.0, pipe_length=0.0, pipe_resistance=0.0,
+               pair_overrides=None):
     """Effective pair properties for every pair of material types.
 
     Parameters
@@ -124,6 +129,9 @@ def pair_table(materials, *, k_n=0.0, h_c=0.0, pair_overrides=None):
         Normal stiffness of the linear law (N/m), the same for every pair.
     h_c : float, default 0.0
         Contact conductance of the ``constant`` heat model (W/K).
+    pipe_length, pipe_resistance : float, default 0.0
+        Pipe length w (m) and contact resistance per length R_c* (K m/W) of the ``pipe``
+        heat model.
     pair_overrides : dict, optional
         ``{(i, j): {"e": .., "mu": .., "mu_r": ..}}`` by type index, symmetric.
 
@@ -157,4 +165,8 @@ def pair_table(materials, *, k_n=0.0, h_c=0.0, pair_overrides=None):
             tab[i, j, P_HC] = h_c
             tab[i, j, P_E_REST] = e
             tab[i, j, P_ST_SN] = math.sqrt(4.0 * inv_E / inv_G)
+            tab[i, j, P_K_I] = mi.k
+            tab[i, j, P_K_J] = mj.k
+            tab[i, j, P_PIPE_W] = pipe_length
+            tab[i, j, P_PIPE_R] = pipe_resistance
     return tab

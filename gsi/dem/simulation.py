@@ -15,6 +15,9 @@ Usage::
                      velocity=(0, 0, -1), max_count=5000)
     sim.step(1000)
     sim.time, sim.n, sim.kinetic_energy(), sim.contact_count(), sim.n_lost
+    sim.start_contact_log(every=10, dt_split=1e-3)   # every contact from now ...
+    sim.step(5000)
+    log = sim.stop_contact_log()                     # ... to now (gsi.dem.contact_log)
 
 Particles are addressed by *id* (stable, returned by ``add_particles``); their row in
 the state arrays (``sim.x``, ``sim.v``, ... views of the first ``n`` rows) can change
@@ -31,6 +34,10 @@ Choices made here (DESIGN.md is silent):
   max_i dt sum_j H_ij/(m_i c_p,i) (pairs and planes with a temperature); it is checked
   at every neighbour rebuild: above 1 a GsiRunError (unless ``force_dt``), above 0.5 a
   warning.
+- Radiation (off unless ``sim.set_radiation(...)``, :mod:`gsi.dem.radiation`): its own
+  cached kernels and cell list at the radiation cut-off; every ``every`` steps the step
+  loop stops the compiled chunk and applies the exchange at T_n over the interval
+  (operator splitting beside the engine's contact heat).
 - A particle outside the domain box is deleted and counted in ``n_lost``
   (``lost="error"`` raises GsiRunError instead).  A NaN or a speed above ``v_max``
   (m/s, default 100) stops the run with GsiRunError.
@@ -87,6 +94,7 @@ from gsi.dem.walls import PlaneWall, MeshWall, triangle_edges, _vec3
 from gsi.dem.state import (MAX_WALL_SLOTS, PARTICLE_FIELDS, WALL_CONTACT_FIELDS, Particles,
                            WallContacts, Pairs, append_plane, bundle_bytes, empty_mesh,
                            empty_pairs, empty_planes, mesh_bundle)
+from gsi.dem import contact_log as clog
 
 
 #: a step in which more than this fraction of the particles (and at least RUNAWAY_MIN)
@@ -106,10 +114,13 @@ class Simulation:
         Contact law ("hertz", "linear"; see :mod:`gsi.dem.contact`).
     rolling : bool, default False
         Rolling resistance (constant directional torque, coefficient ``Material.mu_r``).
-    heat : {None, "area", "radius", "constant"}
+    heat : {None, "area", "radius", "constant", "pipe"}
         Contact conduction model (:mod:`gsi.dem.heat`); None: no heat.
     h_c : float, optional
         Conductance of the "constant" model (W/K).
+    pipe_length, pipe_resistance : float, optional
+        Pipe length w (m, > 0) and contact resistance per length R_c* (K m/W, default 0)
+        of the "pipe" model.
     k_n : float, optional
         Normal stiffness of the "linear" law (N/m).
     gravity : (3,) float, default (0, 0, -9.81)
@@ -145,7 +156,7 @@ class Simulation:
     """
 
     def __init__(self, materials, *, contact="hertz", rolling=False, heat=None, h_c=None,
-                 k_n=None, gravity=(0.0, 0.0, -9.81), dt, skin, domain, force_dt=False,
+                 pipe_length=None, pipe_resistance=0.0, k_n=None, gravity=(0.0, 0.0, -9.81), dt, skin, domain, force_dt=False,
                  v_max=100.0, lost="delete", pair_overrides=None, seed=None,
                  parallel_min_n=2000, sort_particles=False, dt_checked=False):
         if not materials:
@@ -165,6 +176,10 @@ class Simulation:
             raise GsiInputError(f"k_n = {k_n}: the linear law needs a normal stiffness > 0 (N/m)")
         if heat == "constant" and not (h_c is not None and h_c >= 0):
             raise GsiInputError(f"h_c = {h_c}: the constant heat model needs a conductance >= 0 (W/K)")
+        if heat == "pipe" and not (pipe_length is not None and pipe_length > 0
+                                   and pipe_resistance >= 0):
+            raise GsiInputError(f"pipe_length = {pipe_length}: the pipe heat model needs a pipe "
+                                "length > 0 (m) and pipe_resistance >= 0 (K m/W)")
         if lost not in ("delete", "error"):
             raise GsiInputError(f"lost = {lost!r}: must be 'delete' or 'error'")
         lo, hi = (np.asarray(domain[0], float), np.asarray(domain[1], float))
@@ -184,7 +199,9 @@ class Simulation:
                     raise GsiInputError(f"pair_overrides.{a}-{b}: unknown material {mname!r}")
             self._overrides[(self._mat_index[a], self._mat_index[b])] = d
         self.table = pair_table([self.materials[k] for k in self._mat_names],
-                                k_n=k_n or 0.0, h_c=h_c or 0.0, pair_overrides=self._overrides)
+                                k_n=k_n or 0.0, h_c=h_c or 0.0, pipe_length=pipe_length or 0.0,
+                                pipe_resistance=pipe_resistance or 0.0,
+                                pair_overrides=self._overrides)
         self.rng = np.random.default_rng(seed)
         self.parallel_min_n = int(parallel_min_n)
         self.sort_particles = bool(sort_particles)
@@ -213,6 +230,9 @@ class Simulation:
         self.n_rebuilds = 0
         self._heat_warned = False
         self._built = False
+        self.radiation = None
+        self._log = clog.empty_log_state()      # read only by a logging engine
+        self._log_t0 = None                     # (t0, particle data) while logging
 
     # ------------------------------------------------------------------ storage
     def _shape(self, cap, trail):
@@ -514,6 +534,16 @@ class Simulation:
         self.inserters.append(ins)
         return ins
 
+    def set_radiation(self, emissivity, *, cutoff=None, every=1, T_enclosure=None):
+        """Turn on particle radiation (:class:`gsi.dem.radiation.Radiation`: emissivity by
+        material name, cut-off c (-, default 1.5), an evaluation every ``every`` steps,
+        an optional enclosure temperature T_enclosure (K)). Returns the model."""
+        from gsi.dem.radiation import CUTOFF_DEFAULT, Radiation
+        self.radiation = Radiation(self, emissivity=emissivity, every=every,
+                                   cutoff=CUTOFF_DEFAULT if cutoff is None else cutoff,
+                                   T_enclosure=T_enclosure)
+        return self.radiation
+
     # ------------------------------------------------------------------ checks
     def rayleigh_time(self):
         """min over particles of the Rayleigh time t_R (s) (inf without particles)."""
@@ -695,14 +725,20 @@ class Simulation:
             else:
                 self._prepare()
             chunk = min([remaining] + [ins.steps_to_next() for ins in self.inserters])
+            if self.radiation is not None:     # applied at T_n over its interval
+                chunk = min(chunk, self.radiation.step_due())
+            self._log.ctrl[clog.C_STEP] = self.step_count
             done, code, info = self.engine.advance(chunk, skip, self.dt, self.g, half_skin2,
                                                    vmax2, self.lo, self.hi, *self._bundles(),
-                                                   self.table)
+                                                   self.table, self._log)
             self._advance_time(done)
             remaining -= done
             skip = False
             if code == 1:
                 skip = True
+            elif code == 4:                 # the log is full: grow it, take the sample
+                self._grow_log()
+                clog.sample(*self._bundles(), self._log)
             elif code == 2:
                 out = ((self.x < self.lo) | (self.x > self.hi)).any(1)
                 if self.lost == "error":
@@ -732,6 +768,119 @@ class Simulation:
             if self._overflow[0]:
                 self._overflow[0] = 0
                 warnings.warn(f"more than {MAX_WALL_SLOTS} triangle contacts on one particle; extra ones ignored")
+
+    # ------------------------------------------------------------------ contact log
+    @property
+    def contact_logging(self):
+        """Whether a contact log is being recorded (:meth:`start_contact_log`)."""
+        return self._log_t0 is not None
+
+    def start_contact_log(self, *, every=1, dt_split=None, capacity=None):
+        """Record every contact from now (t0) until :meth:`stop_contact_log` (t1); see
+        :mod:`gsi.dem.contact_log`.
+
+        Parameters
+        ----------
+        every : int
+            Sampling factor n: the contacts are sampled every ``every`` steps (the first
+            sample ``every`` steps from now).
+        dt_split : float, optional
+            Delta t_c^max (s): a contact longer than this is logged as several rows
+            (Algorithm 2 of the seed); a multiple of every dt. Default: never split.
+        capacity : int, optional
+            Rows to reserve at first (default 32 per particle); the log grows as
+            needed.
+
+        The simulation switches to the logging variant of its engine (compiled once per
+        law combination, then cached); trajectories are the same bit for bit.  The log
+        is not part of :meth:`state` (a checkpoint taken while logging does not hold it).
+        """
+        if self.contact_logging:
+            raise GsiInputError("start_contact_log: a contact log is already running; call "
+                                "stop_contact_log() first")
+        if not (isinstance(every, (int, np.integer)) and every >= 1):
+            raise GsiInputError(f"contact_log.every = {every}: must be an integer >= 1 "
+                                "(steps)")
+        if self.n == 0:
+            raise GsiInputError("start_contact_log: no particles to log")
+        if int(self.ids.max()) >= 2 ** 31:
+            raise GsiInputError("start_contact_log: particle ids above 2^31 cannot be logged")
+        if self._npl > clog.TRI_BASE:
+            raise GsiInputError(f"start_contact_log: at most {clog.TRI_BASE} planes")
+        split = 0
+        if dt_split is not None:
+            per = every * self.dt
+            split = int(round(dt_split / per))
+            if not (dt_split > 0 and split >= 1 and abs(split * per - dt_split) <= 1e-9 * dt_split):
+                raise GsiInputError(
+                    f"contact_log.dt_split = {dt_split}: must be a positive multiple of "
+                    f"every x dt = {per:g} s (e.g. {max(split, 1) * per:g} s)")
+        n_cap = 8 * self.n + 64
+        self._log = clog.empty_log_state(n_cap, int(capacity) if capacity else 4 * n_cap)
+        c = self._log.ctrl
+        c[clog.C_EVERY] = every
+        c[clog.C_SPLIT] = split
+        c[clog.C_NEXT] = self.step_count + every
+        c[clog.C_START] = self.step_count
+        if self.heat not in clog.SIZE_MODELS:
+            raise GsiInputError(f"contact_log: heat = {self.heat!r} is not logged (the replay "
+                                f"knows the contact sizes of 'area', 'radius' and 'constant')")
+        c[clog.C_MODEL] = clog.SIZE_MODELS[self.heat]
+        order = np.argsort(self.ids, kind="stable")
+        self._log_t0 = dict(t0=self.time, ids=self.ids[order].copy(), x0=self.x[order].copy(),
+                            T0=self.T[order].copy(),
+                            heat_capacity=self.heat_capacity[order],
+                            type_=self.type[order].astype(np.int32))
+        self.engine = get_engine(self.contact, self.rolling, self.heat, log=True)
+
+    def stop_contact_log(self):
+        """End the log started by :meth:`start_contact_log` (now is t1).
+
+        Returns
+        -------
+        gsi.dem.contact_log.ContactLog
+        """
+        if not self.contact_logging:
+            raise GsiInputError("stop_contact_log: no contact log is running; call "
+                                "start_contact_log() first")
+        lg = self._log
+        need = int(lg.ctrl[clog.C_NROWS] + lg.ctrl[clog.C_NOPEN])
+        if need > lg.row_key.shape[0]:
+            lg = clog.grown(lg, 0, need)
+        clog.close_open(lg)
+        a = self._log_t0
+        self._log_t0 = None
+        self._log = clog.empty_log_state()
+        self.engine = get_engine(self.contact, self.rolling, self.heat)
+        order = np.argsort(self.ids, kind="stable")
+        ids = self.ids[order]
+        if len(ids) != len(a["ids"]) or not (ids == a["ids"]).all():
+            raise GsiRunError("stop_contact_log: particles were inserted or lost since "
+                              "start_contact_log; the log needs the same particles at t0 and t1")
+        from gsi.dem.materials import P_HC, P_KH
+        pl, M = self.plane_state, self.mesh_state
+        nw = len(M.wall_type)
+        mesh_T = np.array([M.T[M.vertex_wall == w].mean() if (M.vertex_wall == w).any()
+                           else 0.0 for w in range(nw)])
+        tri_first = np.array([w._t0 for w in self.mesh_walls], np.int64)
+        col = P_HC if self.heat == "constant" else P_KH
+        return clog.ContactLog.from_rows(
+            lg, ids=ids, x0=a["x0"], x1=self.x[order].copy(), T0=a["T0"],
+            T1=self.T[order].copy(), heat_capacity=a["heat_capacity"], type_=a["type_"],
+            coef=self.table[:, :, col].copy(),
+            wall_type=np.concatenate([pl.type, M.wall_type]).astype(np.int32),
+            wall_T=np.concatenate([pl.T, mesh_T]),
+            wall_has_T=np.concatenate([pl.has_T, M.wall_has_T]).astype(bool),
+            tri_wall=M.tri_wall.astype(np.int64), tri_first=tri_first, n_planes=self._npl,
+            dt=self.dt, t0=a["t0"], t1=self.time, model=self.heat or "area")
+
+    def _grow_log(self):
+        """Room for the next sample: open contacts and rows at least doubled."""
+        lg = self._log
+        nc = int(clog.count_contacts(self.particles, self.pairs, self.wall_contacts))
+        self._log = clog.grown(lg, max(2 * lg.cur_key.shape[0], 2 * nc),
+                               max(2 * lg.row_key.shape[0],
+                                   int(lg.ctrl[clog.C_NROWS] + lg.ctrl[clog.C_NOPEN]) + 4 * nc))
 
     def _advance_time(self, k):
         self.step_count += k
@@ -798,12 +947,17 @@ class Simulation:
         d.update({f"rng.{k}": v for k, v in _rng_state_arrays(self.rng.bit_generator.state).items()})
         for i, ins in enumerate(self.inserters):
             d.update({f"ins{i}.{k}": v for k, v in ins.state().items()})
+        if self.radiation is not None:
+            d.update(self.radiation.state())
         return d
 
     def set_state(self, d):
         """Restore :meth:`state` into a simulation built the same way (same materials,
         planes, mesh walls and inserters, in the same order). Nothing is recomputed:
         the next :meth:`step` continues exactly where the saved run stood."""
+        if self.contact_logging:
+            raise GsiInputError("set_state: a contact log is running; stop_contact_log() "
+                                "first (the log is not part of the state)")
         n, step_count, n_lost, next_id, n_rebuilds, npl, S, n_ins = (
             int(v) for v in d["counters"])
         if (npl, S, n_ins, len(self.mesh_state.x), len(self.mesh_state.tri)) != (
@@ -823,7 +977,8 @@ class Simulation:
             self._wa[k][:n] = d[f"wc.{k}"]
         self._overflow[:] = d["wc.overflow"]
         self.n = n
-        self.pairs = Pairs(*[np.ascontiguousarray(d[f"pairs.{k}"]) for k in Pairs._fields])
+        # copies: the run must not write into ``d`` (it may be restored again)
+        self.pairs = Pairs(*[np.array(d[f"pairs.{k}"], order="C") for k in Pairs._fields])
         for prefix, bundle in (("planes", self.plane_state), ("mesh", self.mesh_state)):
             for k, a in zip(bundle._fields, bundle):
                 a[...] = d[f"{prefix}.{k}"]
@@ -838,6 +993,8 @@ class Simulation:
         for i, ins in enumerate(self.inserters):
             ins.set_state({k[len(f"ins{i}."):]: v for k, v in d.items()
                            if k.startswith(f"ins{i}.")})
+        if self.radiation is not None:
+            self.radiation.set_state(d)
 
 
 def _rng_state_arrays(state, prefix=""):

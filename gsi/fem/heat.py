@@ -7,7 +7,16 @@ r"""Transient heat conduction in the structure, theta-scheme, factorized once.
     -k\nabla T\cdot n = -q \ \text{(prescribed flux } q \text{ into the body, W/m}^2), \quad
     -k\nabla T\cdot n = h (T - T_\infty) \ \text{(convection)}
 
-plus nodal heat loads (W) at vertices. With the capacity matrix C and the conduction +
+plus nodal heat loads (W) at vertices, and surface radiation to surroundings at T_amb,
+
+.. math::
+    -k\nabla T\cdot n = \varepsilon \sigma (T^4 - T_{amb}^4) \quad \text{(radiation tags)},
+
+applied explicitly: the flux of a step is evaluated at T_n (the matrix stays factorized
+once; a Newton or per-step linearisation would refactorize every step). The explicit term
+is stable and monotone for dt lambda_rad <= 1, lambda_rad = 4 eps sigma T_max^3 times the
+facet term of the element bound below (checked at every step with the current T_max;
+above it the step is refused naming the tag). With the capacity matrix C and the conduction +
 convection matrix K, one step of size dt is
 
 .. math::
@@ -53,6 +62,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import scipy.constants
 import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -138,6 +148,7 @@ class Heat:
         self.h = {n: 0.0 for n in names}
         self.T_amb = {n: compat.constant(mesh, 0.0) for n in names}
         self.q = {n: compat.constant(mesh, 0.0) for n in names}
+        self.radiation = {}          # tag -> (emissivity, T_ambient Constant)
         self.source = compat.constant(mesh, 0.0)
         self.vmap = VertexDofMap(self.V)
         self.nodal = NodalLoads(self.vmap)
@@ -146,6 +157,12 @@ class Heat:
         self.t = 0.0
         self.n_steps = 0
         self._solver: LinearSolver | None = None
+        #: the :class:`gsi.fem.contact_heat.ContactHeatSystem` that steps this body (None:
+        #: it steps alone)
+        self.contact_system = None
+        #: heat (W) the FE-FE contacts put into each owned dof over the last step
+        #: (theta-weighted; set by the contact system, zero otherwise)
+        self.contact_heat = np.zeros(compat.dof_index_map(self.V)[0].size_local)
 
     # ------------------------------------------------------------------ set-up API
     def _check_not_set_up(self, what):
@@ -180,6 +197,25 @@ class Heat:
         self.structure.facet_tag(tag)
         self.q[tag].value = float(q)
 
+    def set_radiation(self, tag: str, emissivity: float, T_ambient: float) -> None:
+        """Radiation out through ``tag``: flux eps sigma (T^4 - T_ambient^4) (W/m^2), T in K,
+        explicit in T (module docstring). The emissivity is fixed at the first step;
+        T_ambient may change later."""
+        self.structure.facet_tag(tag)
+        if not (np.isfinite(emissivity) and 0.0 < emissivity <= 1.0):
+            raise GsiInputError(f"structure.heat.radiation.{tag}.emissivity = {emissivity!r}: "
+                                "must be in (0, 1]")
+        if not (np.isfinite(T_ambient) and T_ambient >= 0.0):
+            raise GsiInputError(f"structure.heat.radiation.{tag}.T_ambient = {T_ambient!r}: "
+                                "must be >= 0 (K)")
+        if tag in self.radiation:
+            if self._solver is not None and emissivity != self.radiation[tag][0]:
+                self._check_not_set_up(f"radiation.{tag}.emissivity")
+            self.radiation[tag][1].value = float(T_ambient)
+            return
+        self._check_not_set_up(f"radiation.{tag}")
+        self.radiation[tag] = (float(emissivity), compat.constant(self.mesh, float(T_ambient)))
+
     def set_source(self, s: float) -> None:
         """Uniform volumetric heat source (W/m^3)."""
         self.source.value = float(s)
@@ -200,7 +236,7 @@ class Heat:
         """Tags through which heat can cross the boundary: convection (h > 0), a nonzero
         prescribed flux, or a fixed temperature (the others are insulated)."""
         return [n for n in self.h if self.h[n] > 0.0 or self.q[n].value != 0.0
-                or n in self._bc_dofs_by_tag]
+                or n in self._bc_dofs_by_tag or n in self.radiation]
 
     def volume(self) -> float:
         """Volume of the body (m^3) (collective; computed once)."""
@@ -256,6 +292,8 @@ class Heat:
             f_form += self.q[n] * w * ds(tags[n])
             if self.h[n] > 0.0:
                 f_form += compat.constant(self.mesh, self.h[n]) * self.T_amb[n] * w * ds(tags[n])
+        for n, (eps, T_amb) in self.radiation.items():
+            f_form += self._radiation_flux(n) * w * ds(tags[n])
         theta, dt = self.theta, self.dt
         self.check_stability()
         a_form = (1.0 / dt) * c_form if theta == 0.0 else (1.0 / dt) * c_form + theta * k_form
@@ -276,6 +314,64 @@ class Heat:
                                    petsc_options=self.petsc_options, options_key=self.options_key,
                                    rtol=self.rtol)
         self._solver.factorize()
+
+    def _radiation_flux(self, tag):
+        """eps sigma (T_amb^4 - T_n^4): the radiative flux into the body over the step
+        (UFL; T_n is T_old, which begin_step sets before assembling)."""
+        eps, T_amb = self.radiation[tag]
+        es = compat.constant(self.mesh, eps * scipy.constants.Stefan_Boltzmann)
+        return es * (T_amb ** 4 - self.T_old ** 4)
+
+    def radiation_heat_flow(self, tag: str) -> float:
+        """Radiative heat flow into the body through ``tag`` over the last step (W), as the
+        step applied it (evaluated at its T_n; collective)."""
+        self._setup()
+        if not hasattr(self, "_rad_forms"):
+            self._rad_forms = {}
+        if tag not in self._rad_forms:
+            self._rad_forms[tag] = compat.form(
+                self._radiation_flux(tag) * self._ds(self.structure.tags[tag]))
+        return compat.assemble_scalar(self._rad_forms[tag], self.comm)
+
+    def _facet_factor(self, name) -> float:
+        """max over the cells at the facets of ``name`` of (d+1)(d+2) A/(d rho c V) (1/(s W/(m^2 K)))."""
+        m = self.material
+        x = compat.geometry_x(self.mesh)
+        cells = compat.geometry_dofmap(self.mesh)
+        d = self.mesh.topology.dim
+        facets = compat.meshtag_find(self.structure.facet_tags, self.structure.tags[name])
+        if len(facets) == 0:
+            return 0.0
+        X = x[cells[:, :d + 1]]
+        J = np.transpose(X[:, 1:, :] - X[:, :1, :], (0, 2, 1))
+        V = np.sqrt(np.abs(np.linalg.det(np.einsum("nai,naj->nij", J, J)))) / math.factorial(d)
+        fn = compat.entities_to_geometry(self.mesh, d - 1, facets)
+        E = x[fn][:, 1:, :] - x[fn][:, :1, :]
+        A = np.sqrt(np.abs(np.linalg.det(np.einsum("nia,nja->nij", E, E)))) / math.factorial(d - 1)
+        area = {tuple(sorted(f)): a for f, a in zip(fn.tolist(), A)}
+        out = 0.0
+        for c, nodes in enumerate(cells[:, :d + 1].tolist()):
+            for skip in range(d + 1):
+                key = tuple(sorted(nodes[:skip] + nodes[skip + 1:]))
+                if key in area:
+                    out = max(out, (d + 1) * (d + 2) * area[key] / (d * m.rho * m.c * V[c]))
+        return out
+
+    def check_radiation_step(self) -> None:
+        """Refuse a step with dt lambda_rad > 1 (module docstring; collective)."""
+        if not self.radiation:
+            return
+        if not hasattr(self, "_rad_factor"):
+            self._rad_factor = {n: self.comm.allreduce(self._facet_factor(n), op=MPI.MAX)
+                                for n in self.radiation}
+        T_max = max(self.min_max()[1], max(T.value for _, T in self.radiation.values()))
+        for n, (eps, _) in self.radiation.items():
+            lam = 4.0 * eps * scipy.constants.Stefan_Boltzmann * T_max ** 3 * self._rad_factor[n]
+            if self.dt * lam > 1.0:
+                raise GsiInputError(
+                    f"structure.heat.radiation.{n}: the step dt = {self.dt:.4g} s is above the "
+                    f"explicit radiation limit 1/lambda = {1.0 / lam:.4g} s at T_max = "
+                    f"{T_max:.4g} K; lower dt (structures[].contact.n_sub)")
 
     def stable_dt(self) -> float:
         """Largest stable step (s) of the theta-scheme for theta < 1/2 (inf for theta >=
@@ -342,10 +438,24 @@ class Heat:
 
     def step(self):
         """Advance one step dt; returns the temperature Function."""
+        if self.contact_system is not None:
+            raise RuntimeError("Heat.step: this body is in a contact group; step the group "
+                               "(ContactHeatSystem.step)")
+        b = self.begin_step()
+        self._solver.solve(b, compat.petsc_vec(self.T))
+        self.end_step()
+        return self.T
+
+    def begin_step(self) -> PETSc.Vec:
+        """The right-hand side of the step from T_n, (C/dt - (1 - theta) K) T_n + F with
+        the Dirichlet values set (a vector owned by this object, valid until the next
+        call); T_old takes T_n. :meth:`step` is ``begin_step``, a solve with
+        :meth:`system_matrix` into T, :meth:`end_step`."""
         self._setup()
         theta, dt = self.theta, self.dt
         Tn = compat.petsc_vec(self.T)
         self.T_old.x.array[:] = self.T.x.array
+        self.check_radiation_step()
         self._assemble_load(self._F)
         b, tmp = self._b, self._tmp
         self._F.copy(b)
@@ -356,11 +466,40 @@ class Heat:
             b.axpy(-(1.0 - theta), tmp)
         b.axpy(1.0, self._lift)
         compat.set_bc(b, self.bcs)
-        self._solver.solve(b, Tn)
+        return b
+
+    def end_step(self, T_new=None) -> None:
+        """Finish the step: T takes ``T_new`` (owned dofs; default: T as solved in place),
+        the ghosts are updated, t and the step count advance."""
+        if T_new is not None:
+            self.T.x.array[:len(T_new)] = T_new
         compat.scatter_forward(self.T)
-        self.t += dt
+        self.t += self.dt
         self.n_steps += 1
-        return self.T
+
+    def system_matrix(self) -> PETSc.Mat:
+        """The step matrix C/dt + theta K with the Dirichlet rows and columns replaced by
+        the identity (assembled once)."""
+        self._setup()
+        return self._A
+
+    def bc_dofs(self) -> np.ndarray:
+        """Owned dofs with a fixed temperature (local indices)."""
+        return np.unique(np.concatenate([np.zeros(0, np.int32)]
+                                        + list(self._bc_dofs_by_tag.values()))).astype(np.int64)
+
+    def capacity_row_sums(self) -> np.ndarray:
+        """Row sums of the capacity matrix C at the owned dofs, int rho c N_i dx (J/K)."""
+        self._setup()
+        ones, out = self._C.createVecRight(), self._C.createVecLeft()
+        ones.set(1.0)
+        self._C.mult(ones, out)
+        return out.array.copy()
+
+    def heat_capacity(self) -> float:
+        """Heat capacity of the body, int rho c dx (J/K) (collective)."""
+        m = self.material
+        return m.rho * m.c * self.volume()
 
     # ------------------------------------------------------------------ state
     def state(self) -> dict:
@@ -401,6 +540,7 @@ class Heat:
         res += tmp.array
         self._assemble_load(self._F)
         res -= self._F.array
+        res[:self.contact_heat.size] -= self.contact_heat
         return self.comm.allreduce(float(res[dofs].sum()), op=MPI.SUM)
 
     def heat_flow(self, tag: str) -> float:

@@ -24,7 +24,8 @@ def _module(name):
     return mod
 
 
-@pytest.mark.parametrize("name", ["pour", "hopper_membrane", "thermal_silo"])
+@pytest.mark.parametrize("name", ["pour", "hopper_membrane", "thermal_silo",
+                                  "drum_extrapolation"])
 def test_literate_demo_and_its_toml_twin_are_the_same_case(name):
     mod = _module(name)
     assert mod.result is None                 # importing runs nothing

@@ -41,13 +41,22 @@ def driver(out, *extra, threads=1, ranks=None, timeout=600, check=True):
     return proc
 
 
-def cli(out, *extra, ranks=None, **popen):
-    cmd = [sys.executable, "-m", "gsi.cli", "run", str(CASE), "--out", str(out),
+def cli(out, *extra, ranks=None, case=None, **popen):
+    cmd = [sys.executable, "-m", "gsi.cli", "run", str(case or CASE), "--out", str(out),
            "--no-pictures", *extra]
     if ranks:
         cmd = mpirun(ranks) + cmd
     return subprocess.Popen(cmd, env=env(1), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, **popen)
+
+
+def longer_case(directory, duration):
+    """A copy of the test case (in ``directory``) that runs ``duration`` s instead."""
+    text = CASE.read_text()
+    assert "duration = 0.024\n" in text
+    path = pathlib.Path(directory) / CASE.name
+    path.write_text(text.replace("duration = 0.024\n", f"duration = {duration!r}\n"))
+    return path
 
 
 def wait_for(path_glob, directory, *, timeout=300, proc=None):

@@ -22,8 +22,8 @@ def _base(name: str) -> str:
             .replace('"../meshes/belt.geo"', '"../../../meshes/belt.geo"'))
 
 
-P, D, H, B, T = (_base(n) for n in ("pour", "drum", "hopper_membrane", "belt_hopper",
-                                    "thermal_silo"))
+P, D, H, B, T, R = (_base(n) for n in ("pour", "drum", "hopper_membrane", "belt_hopper",
+                                       "thermal_silo", "thermal_silo_radiation"))
 STREAM = P.replace('fill = "random"\ncount = 2000', 'fill = "stream"\nrate = 20000.0\nmax_count = 2000')
 PLANE = '\n[[walls]]\nname = "floor"\nkind = "plane"\nmaterial = "glass"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n'
 FILE_SRC = P.replace('fill = "random"\ncount = 2000\nvelocity = [0.0, 0.0, -0.5]\nsize = { kind = "uniform", min = 0.0018, max = 0.0022 }\nregion = { kind = "box", lo = [0.0, 0.0, 0.05], hi = [0.06, 0.06, 0.15] }',
@@ -135,6 +135,13 @@ SPEC = {
     "structure_geo_unknown_constant": (B, [("geometry = { length = 0.8", "geometry = { lenght = 0.8")], "structures[0].geometry.lenght", "check", "misspelt .geo constant"),
     "structure_geo_tag_missing_group": (B, [('support = "belt_ends"', 'support = "ends"')], "structures[0].tags.support", "check", "tags mapped to a group the .geo lacks"),
     "thermal_contact_without_heat": (T, [('heat = "area"', 'heat = "none"')], "structures[0].contact.mode", "check", "thermal contact without a heat model"),
+    # ---- radiation (dem.radiation, materials.X.emissivity)
+    "radiation_emissivity_missing": (R, [("cp = 1000.0\nemissivity = 0.9\n", "cp = 1000.0\n")], "materials.clinker.emissivity", "check", "radiation on, the particles' material without an emissivity"),
+    "radiation_emissivity_percent": (R, [("emissivity = 0.9", "emissivity = 90.0")], "materials.clinker.emissivity", "check", "emissivity in percent"),
+    "radiation_every_unstable": (R, [("radiation_every = 50 ", "radiation_every = 500000 ")], "dem.radiation_every", "check", "radiation applied over 15 s at a time: explicit update unstable"),
+    "radiation_every_float": (R, [("radiation_every = 50 ", "radiation_every = 2.5 ")], "dem.radiation_every", "check", "a non-integer evaluation interval"),
+    "radiation_cutoff_below_one": (R, [("radiation_cutoff = 1.5", "radiation_cutoff = 0.5")], "dem.radiation_cutoff", "check", "a cut-off that misses touching particles"),
+    "radiation_options_while_off": (R, [("radiation = true ", "radiation = false ")], "dem.radiation_cutoff", "check", "radiation options with dem.radiation = false"),
     "structure_material_unknown": (H, [('material = "rubber"      # gsi.fem', 'material = "rubbr"      # gsi.fem')], "structures[0].material", "check", "unknown FE material"),
     # ---- particle files
     "particle_file_missing": (FILE_SRC.replace("FILE", "data/nofile.csv"), [], "particles[0].file", "check", "missing particle file"),

@@ -1,0 +1,528 @@
+r"""Thermal radiation of the particles: particle-particle, particle-wall and an enclosure.
+
+The model of the packed-bed pyrolysis paper (seed 000, eqs. 22-23): a particle i emits
+eps_i sigma T_i^4 from its surface and absorbs, with alpha_i = eps_i (grey, Kirchhoff),
+the flux its neighbours j send towards it, weighted by the view factor F_i->j:
+
+.. math::
+    q_{rad,i} = \alpha_i \sum_j F_{i\to j}\, q_{rad,j} - \varepsilon_i \sigma T_i^4,
+    \qquad F_{i\to j} = \frac{A_j}{\sum_{k} A_k}            \quad\text{(eqs. 22, 23)}
+
+with the sums over the neighbours inside a radiation cut-off.
+
+How eq. 23 is read. The printed formula puts A_i over the sum of the neighbours' areas
+A_j, while the text says "the ratio of the surface of particle i to the sum of the
+surfaces of all neighbouring particles j". Taken literally, F_i->j would then not depend
+on j and sum_j F_i->j = k A_i / sum_j A_j, which is 1 only for equal spheres. We read it
+as the share of i's view taken by neighbour j, F_i->j = A_j / sum_k A_k: it is the
+printed value for equal spheres (1/k for k neighbours), it sums to one (all of i's
+emission reaches its neighbours, the closure the eq. 22 balance needs), and a larger
+neighbour takes a larger share. The unseen part of the surface is then empty whenever a
+particle has a neighbour; the model has no open-sky term (the free surface of a bed
+radiates only to its neighbours).
+
+Neighbours (``cutoff`` c, a multiple of the radius, default :data:`CUTOFF_DEFAULT`):
+
+* particles j with centre distance |x_i - x_j| < c (R_i + R_j) (c = 1.5: equal spheres up
+  to a gap of one radius, about the first neighbour shell of a packing);
+* radiating walls: a wall that has a temperature and an emissivity > 0. A plane within
+  c R_i of the centre (on its side of the plane) and each mesh wall with a triangle within
+  c R_i count as ONE neighbour of area A_i: the particle's mirror image in the wall (an
+  image at distance 2 d is inside the particle cut-off c (R_i + R_i) exactly when d < c
+  R_i). A mesh wall exchanges at its closest point to the particle (over all its
+  triangles within the cut-off), at the FE temperature interpolated there with the
+  barycentric weights, T_w = sum_k w_k T_k, and its heat goes to the wall's nodes
+  with the same weights (P2 walls: the parent face's P2 basis), through the very
+  accumulators of the particle-wall conduction (``vertex_heat``, ``wall_heat``) that the
+  thermal coupling turns into nodal heat loads of the FE. A particle in a concave
+  corner of one mesh wall sees it once. Planes feed ``plane_state.heat``.
+* Walls without a temperature, or with emissivity 0, are not neighbours: adiabatic,
+  re-radiating surfaces whose share the closure hands to the particles around.
+
+Pairwise-conservative form. With alpha = eps, the heat i absorbs of j's emission minus
+the heat j absorbs of i's is eps_i eps_j sigma (A_j F_j->i T_j^4 - A_i F_i->j T_i^4); the
+part a neighbour does not absorb counts as returned to the emitter (one reflection).
+Reciprocity A_i F_i->j = A_j F_j->i does not hold for eq. 23 (the two sums differ), so
+the exchange area of a pair is symmetrised to the smaller of the two,
+
+.. math::
+    S_{ij} = \min(A_i F_{i\to j},\ A_j F_{j\to i})
+           = \frac{A_i A_j}{\max(\Sigma_i, \Sigma_j)}, \qquad \Sigma_i = \sum_k A_k,
+
+    Q_{i \leftarrow j} = \sigma\, \varepsilon_i \varepsilon_j\, S_{ij}\,(T_j^4 - T_i^4)
+    = -Q_{j \leftarrow i}.
+
+The minimum keeps sum_j S_ij <= A_i: no particle exchanges through more than its
+surface, which makes the stability bound below rigorous. Each pair is visited from both
+sides with the same operands in the same order, so Q_ij = -Q_ji bit for bit and
+sum m c_p T changes only by round-off. A wall's exchange area is S_iw = A_i A_i / Sigma_i,
+with the wall's emissivity eps_w; its heat leaves or enters the wall's books.
+
+Enclosure (``T_enclosure``, K, default None: none): a particle with no neighbour at all
+exchanges with a black enclosure at T_enclosure through its whole surface,
+Q = sigma eps_i A_i (T_enc^4 - T_i^4) (a single particle in a cold room; the heat goes to
+:attr:`Radiation.enclosure_heat`). Without it such a particle does not radiate.
+
+Time integration (operator splitting beside the compiled step engine, which integrates
+the contact heat every step): every ``every`` DEM steps, at the start of the interval,
+the exchange is evaluated at the current temperatures (explicit at T_n) and applied over
+the interval dt_rad = every x dt: T_i += dt_rad Q_i / (m_i c_p,i), and the walls'
+accumulators take Q dt_rad. The neighbour search is a cell list at the cut-off, made
+afresh at each evaluation (cells >= 2 c R_max; functions of :mod:`gsi.dem.neighbour`).
+
+Stability: with S summing to at most A_i, the update is a convex combination (no new
+extremum) while dt_rad 4 eps_i sigma T_max^3 A_i / (m_i c_p,i) <= 1, T_max the highest
+particle, radiating wall or enclosure temperature; each evaluation checks it and refuses
+larger steps with a one-line GsiInputError naming ``dem.radiation_every``.
+
+Temperatures must be absolute (K).
+"""
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+
+import numpy as np
+
+from gsi.dem import neighbour as nbr
+from gsi.dem.contact_geometry import plane_distance
+from gsi.dem.geometry import closest_point_triangle
+from gsi.dem.wall_kernels import p2_weight
+from gsi.errors import GsiInputError
+from gsi.jit import njit, pjit, prange
+
+__all__ = ["Radiation", "Rates", "SIGMA", "CUTOFF_DEFAULT"]
+
+#: Stefan-Boltzmann constant (W/(m^2 K^4)), CODATA 2018 (exact in the 2019 SI; 10 digits)
+SIGMA = 5.670374419e-8
+#: default radiation cut-off c: neighbours closer than c (R_i + R_j) between centres
+CUTOFF_DEFAULT = 1.5
+
+
+# ---------------------------------------------------------------------- kernels
+@njit
+def _cell_of(x0, x1, x2, lo, inv_cs, dims):
+    """Cell coordinates of a point (clamped into the grid), as :func:`nbr.cell_index`."""
+    k0 = min(max(int(math.floor((x0 - lo[0]) * inv_cs[0])), 0), dims[0] - 1)
+    k1 = min(max(int(math.floor((x1 - lo[1]) * inv_cs[1])), 0), dims[1] - 1)
+    k2 = min(max(int(math.floor((x2 - lo[2]) * inv_cs[2])), 0), dims[2] - 1)
+    return k0, k1, k2
+
+
+@njit
+def _view_one(i, x, radius, area, cutoff, lo, inv_cs, dims, cell_start, cell_list,
+              pl_point, pl_normal, pl_rad, tcell_start, tcell_list, mx, mtri, tri_wall,
+              wall_rad, wall_tri, wall_w):
+    """Sigma_i, the area of i's neighbours (particles, and A_i per radiating wall); the
+    closest triangle of each radiating mesh wall within the cut-off into
+    ``wall_tri[i]`` (-1: none) with its barycentric weights ``wall_w[i]``."""
+    ri = radius[i]
+    xi0 = x[i, 0]
+    xi1 = x[i, 1]
+    xi2 = x[i, 2]
+    cx, cy, cz = _cell_of(xi0, xi1, xi2, lo, inv_cs, dims)
+    s = 0.0
+    for ax in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+        for ay in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+            for az in range(max(cz - 1, 0), min(cz + 2, dims[2])):
+                c2 = (ax * dims[1] + ay) * dims[2] + az
+                for m in range(cell_start[c2], cell_start[c2 + 1]):
+                    j = cell_list[m]
+                    if j == i:
+                        continue
+                    rc = cutoff * (ri + radius[j])
+                    d2 = ((x[j, 0] - xi0) ** 2 + (x[j, 1] - xi1) ** 2
+                          + (x[j, 2] - xi2) ** 2)
+                    if d2 < rc * rc:
+                        s += area[j]
+    reach = cutoff * ri
+    for p in range(pl_point.shape[0]):
+        if not pl_rad[p]:
+            continue
+        dist = plane_distance(xi0, xi1, xi2, pl_point[p, 0], pl_point[p, 1], pl_point[p, 2],
+                              pl_normal[p, 0], pl_normal[p, 1], pl_normal[p, 2])
+        if 0.0 < dist < reach:
+            s += area[i]
+    nw = wall_rad.shape[0]
+    if nw > 0:
+        best = np.full(nw, reach * reach)
+        for w in range(nw):
+            wall_tri[i, w] = -1
+        c = (cx * dims[1] + cy) * dims[2] + cz
+        for m in range(tcell_start[c], tcell_start[c + 1]):
+            t = tcell_list[m]
+            w = tri_wall[t]
+            if not wall_rad[w]:
+                continue
+            a = mtri[t, 0]
+            b = mtri[t, 1]
+            c_ = mtri[t, 2]
+            qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
+                xi0, xi1, xi2, mx[a, 0], mx[a, 1], mx[a, 2], mx[b, 0], mx[b, 1], mx[b, 2],
+                mx[c_, 0], mx[c_, 1], mx[c_, 2])
+            d2 = (qx - xi0) ** 2 + (qy - xi1) ** 2 + (qz - xi2) ** 2
+            if d2 < best[w]:
+                best[w] = d2
+                wall_tri[i, w] = t
+                wall_w[i, w, 0] = wa
+                wall_w[i, w, 1] = wb
+                wall_w[i, w, 2] = wc
+        for w in range(nw):
+            if wall_tri[i, w] >= 0:
+                s += area[i]
+    return s
+
+
+@pjit
+def view_sums(x, radius, area, cutoff, lo, inv_cs, dims, cell_start, cell_list, pl_point,
+              pl_normal, pl_rad, tcell_start, tcell_list, mx, mtri, tri_wall, wall_rad,
+              area_sum, wall_tri, wall_w):
+    """First pass: Sigma_i of every particle into ``area_sum`` (m^2), and the closest
+    point of each radiating mesh wall (:func:`_view_one`)."""
+    for i in prange(x.shape[0]):
+        area_sum[i] = _view_one(i, x, radius, area, cutoff, lo, inv_cs, dims, cell_start,
+                                cell_list, pl_point, pl_normal, pl_rad, tcell_start,
+                                tcell_list, mx, mtri, tri_wall, wall_rad, wall_tri, wall_w)
+
+
+@njit
+def _exchange_one(i, x, radius, area, eps, T4, cutoff, lo, inv_cs, dims, cell_start,
+                  cell_list, area_sum, pl_point, pl_normal, pl_rad, pl_eps, pl_T4, mtri,
+                  mT, wall_eps, wall_tri, wall_w, T_enc4, has_enc, Q_plane, Q_wall,
+                  S_mat, Q_mat):
+    """Heat rate into particle i (W): its pairs (each from i's side; the same operands
+    as from j's side, so Q_ij = -Q_ji exactly), its radiating walls (rates into
+    ``Q_plane[i]``, ``Q_wall[i]``) and the enclosure. ``S_mat``, ``Q_mat`` (n, n) record
+    each pair's exchange area and rate when they are not empty (tests)."""
+    ri = radius[i]
+    xi0 = x[i, 0]
+    xi1 = x[i, 1]
+    xi2 = x[i, 2]
+    Si = area_sum[i]
+    record = S_mat.shape[0] > 0
+    cx, cy, cz = _cell_of(xi0, xi1, xi2, lo, inv_cs, dims)
+    q = 0.0
+    for ax in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+        for ay in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+            for az in range(max(cz - 1, 0), min(cz + 2, dims[2])):
+                c2 = (ax * dims[1] + ay) * dims[2] + az
+                for m in range(cell_start[c2], cell_start[c2 + 1]):
+                    j = cell_list[m]
+                    if j == i:
+                        continue
+                    rc = cutoff * (ri + radius[j])
+                    d2 = ((x[j, 0] - xi0) ** 2 + (x[j, 1] - xi1) ** 2
+                          + (x[j, 2] - xi2) ** 2)
+                    if d2 < rc * rc:
+                        S = area[i] * area[j] / max(Si, area_sum[j])
+                        Qij = SIGMA * (eps[i] * eps[j]) * S * (T4[j] - T4[i])
+                        q += Qij
+                        if record:
+                            S_mat[i, j] = S
+                            Q_mat[i, j] = Qij
+    if Si > 0.0:
+        Sw = area[i] * area[i] / Si
+        reach = cutoff * ri
+        for p in range(pl_point.shape[0]):
+            Q_plane[i, p] = 0.0
+            if not pl_rad[p]:
+                continue
+            dist = plane_distance(xi0, xi1, xi2, pl_point[p, 0], pl_point[p, 1],
+                                  pl_point[p, 2], pl_normal[p, 0], pl_normal[p, 1],
+                                  pl_normal[p, 2])
+            if 0.0 < dist < reach:
+                Qw = SIGMA * (eps[i] * pl_eps[p]) * Sw * (pl_T4[p] - T4[i])
+                Q_plane[i, p] = Qw
+                q += Qw
+        for w in range(wall_tri.shape[1]):
+            Q_wall[i, w] = 0.0
+            t = wall_tri[i, w]
+            if t < 0:
+                continue
+            Tw = (wall_w[i, w, 0] * mT[mtri[t, 0]] + wall_w[i, w, 1] * mT[mtri[t, 1]]
+                  + wall_w[i, w, 2] * mT[mtri[t, 2]])
+            Qw = SIGMA * (eps[i] * wall_eps[w]) * Sw * (Tw * Tw * Tw * Tw - T4[i])
+            Q_wall[i, w] = Qw
+            q += Qw
+    elif has_enc:
+        q = SIGMA * eps[i] * area[i] * (T_enc4 - T4[i])
+    return q
+
+
+@pjit
+def exchange(x, radius, area, eps, T4, cutoff, lo, inv_cs, dims, cell_start, cell_list,
+             area_sum, pl_point, pl_normal, pl_rad, pl_eps, pl_T4, mtri, mT, wall_eps,
+             wall_tri, wall_w, T_enc4, has_enc, Q, Q_plane, Q_wall, S_mat, Q_mat):
+    """Second pass: the heat rate into every particle ``Q`` (W) (:func:`_exchange_one`);
+    each particle writes only its own rows."""
+    for i in prange(x.shape[0]):
+        Q[i] = _exchange_one(i, x, radius, area, eps, T4, cutoff, lo, inv_cs, dims,
+                             cell_start, cell_list, area_sum, pl_point, pl_normal, pl_rad,
+                             pl_eps, pl_T4, mtri, mT, wall_eps, wall_tri, wall_w, T_enc4,
+                             has_enc, Q_plane, Q_wall, S_mat, Q_mat)
+
+
+@njit
+def scatter_wall_heat(dt, wall_tri, wall_w, Q_wall, mtri, tri_p6, tri_lam, tri_wall,
+                      vertex_heat, wall_heat, rad_wall_heat):
+    """Serial: each particle's radiation from mesh wall w at its closest point on
+    triangle t goes into the wall's books as the conduction's does
+    (:func:`gsi.dem.wall_kernels.mesh_scatter`): vertex_heat += -Q N_k dt (N_k the
+    barycentric weights, or the P2 basis of the parent face), wall_heat += Q dt; and
+    into ``rad_wall_heat[w]`` (the radiative part, J into the particles)."""
+    for i in range(wall_tri.shape[0]):
+        for w in range(wall_tri.shape[1]):
+            t = wall_tri[i, w]
+            if t < 0:
+                continue
+            Qdt = Q_wall[i, w] * dt
+            quad = tri_p6[t, 0] >= 0
+            la = 0.0
+            lb = 0.0
+            lc = 0.0
+            if quad:
+                for c in range(3):
+                    wk = wall_w[i, w, c]
+                    la += wk * tri_lam[t, c, 0]
+                    lb += wk * tri_lam[t, c, 1]
+                    lc += wk * tri_lam[t, c, 2]
+            for k in range(6 if quad else 3):
+                if quad:
+                    a = tri_p6[t, k]
+                    wk = p2_weight(k, la, lb, lc)
+                else:
+                    a = mtri[t, k]
+                    wk = wall_w[i, w, k]
+                vertex_heat[a] -= Qdt * wk
+            wall_heat[tri_wall[t]] += Qdt
+            rad_wall_heat[tri_wall[t]] += Qdt
+
+
+# ---------------------------------------------------------------------- the model
+Rates = namedtuple("Rates", [
+    "Q",            # (n,) W: heat rate into each particle
+    "Q_plane",      # (n, n_planes) W: from each plane into each particle
+    "Q_wall",       # (n, n_mesh_walls) W: from each mesh wall into each particle
+    "Q_enclosure",  # (n,) W: from the enclosure (particles without neighbours)
+    "area_sum",     # (n,) m^2: Sigma_i, the area of each particle's neighbours
+    "wall_tri",     # (n, n_mesh_walls) int64: closest triangle of each wall (-1: none)
+    "wall_w",       # (n, n_mesh_walls, 3): its barycentric weights
+    "S",            # (n, n) m^2 or None: exchange area S_ij of each pair
+    "Q_pair",       # (n, n) W or None: Q_i<-j of each pair
+])
+"""The radiation rates at one state (:meth:`Radiation.rates`)."""
+
+
+class Radiation:
+    """Radiation of a simulation's particles (module docstring); made by
+    :meth:`gsi.dem.Simulation.set_radiation`.
+
+    Parameters
+    ----------
+    sim : gsi.dem.Simulation
+    emissivity : dict of str -> float
+        Emissivity (-, in [0, 1]) by material name; materials not named have 0 (their
+        particles occupy view but neither emit nor absorb; their walls do not radiate).
+    cutoff : float, default CUTOFF_DEFAULT
+        Radiation cut-off c (-, >= 1): particles closer than c (R_i + R_j) between
+        centres, walls closer than c R_i, are neighbours.
+    every : int, default 1
+        DEM steps per evaluation; the exchange is applied over every x dt.
+    T_enclosure : float, optional
+        Temperature (K) of a black enclosure seen by particles with no neighbour.
+
+    Attributes
+    ----------
+    plane_heat : ndarray (n_planes,)
+        Heat radiated from each plane into the particles since the start (J).
+    wall_heat : ndarray (n_mesh_walls,)
+        Heat radiated from each mesh wall into the particles since the start (J).
+    enclosure_heat : float
+        Heat from the enclosure into the particles since the start (J).
+    evaluations : int
+        Evaluations so far.
+    """
+
+    def __init__(self, sim, *, emissivity: dict, cutoff: float = CUTOFF_DEFAULT,
+                 every: int = 1, T_enclosure: float | None = None):
+        if not (isinstance(cutoff, (int, float)) and math.isfinite(cutoff) and cutoff >= 1.0):
+            raise GsiInputError(f"dem.radiation_cutoff = {cutoff!r}: must be >= 1 (a multiple "
+                                "of R_i + R_j; 1 reaches touching particles only)")
+        if isinstance(every, bool) or int(every) != every or every < 1:
+            raise GsiInputError(f"dem.radiation_every = {every!r}: must be an integer >= 1")
+        if T_enclosure is not None and not (math.isfinite(T_enclosure) and T_enclosure >= 0):
+            raise GsiInputError(f"dem.radiation_T_enclosure = {T_enclosure!r}: must be >= 0 (K)")
+        eps = np.zeros(len(sim.material_names))
+        for name, e in dict(emissivity).items():
+            if name not in sim.material_names:
+                raise GsiInputError(f"materials.{name}.emissivity: {name!r} is not a material; "
+                                    f"known: {sim.material_names}")
+            if not (isinstance(e, (int, float)) and 0.0 <= e <= 1.0):
+                raise GsiInputError(f"materials.{name}.emissivity = {e!r}: must be in [0, 1] (-)")
+            eps[sim.material_index(name)] = float(e)
+        self.sim = sim
+        self.eps_type = eps
+        self.cutoff = float(cutoff)
+        self.every = int(every)
+        self.T_enclosure = None if T_enclosure is None else float(T_enclosure)
+        self.plane_heat = np.zeros(0)
+        self.wall_heat = np.zeros(0)
+        self.enclosure_heat = 0.0
+        self.evaluations = 0
+        self._done_at = -1
+
+    # ------------------------------------------------------------------ stepping hook
+    def step_due(self) -> int:
+        """Called by the step loop before each compiled chunk: apply the exchange over
+        the next ``every`` steps when the step count is a multiple of ``every`` (once
+        per step count), and return how many steps the chunk may run before the next
+        evaluation."""
+        sim = self.sim
+        k = sim.step_count
+        if k % self.every == 0 and self._done_at != k:
+            self._done_at = k
+            if sim.n:
+                self.apply(self.every * sim.dt)
+        return self.every - k % self.every
+
+    # ------------------------------------------------------------------ evaluation
+    def _walls(self):
+        sim = self.sim
+        pl, M = sim.plane_state, sim.mesh_state
+        pl_eps = self.eps_type[pl.type] if len(pl.type) else np.zeros(0)
+        pl_rad = (pl.has_T.astype(bool) & (pl_eps > 0)).astype(np.uint8)
+        wall_eps = self.eps_type[M.wall_type] if len(M.wall_type) else np.zeros(0)
+        wall_rad = (M.wall_has_T.astype(bool) & (wall_eps > 0)).astype(np.uint8)
+        if len(self.plane_heat) < len(pl_eps):
+            self.plane_heat = np.concatenate([self.plane_heat,
+                                              np.zeros(len(pl_eps) - len(self.plane_heat))])
+        if len(self.wall_heat) < len(wall_eps):
+            self.wall_heat = np.concatenate([self.wall_heat,
+                                             np.zeros(len(wall_eps) - len(self.wall_heat))])
+        return pl, M, pl_eps, pl_rad, wall_eps, wall_rad
+
+    def stability(self) -> float:
+        """max_i dt_rad 4 eps_i sigma T_max^3 A_i/(m_i c_p,i) (-), dt_rad = every x dt,
+        T_max the highest particle, radiating wall or enclosure temperature (K): the
+        explicit update is stable below 1 (module docstring)."""
+        sim = self.sim
+        if sim.n == 0:
+            return 0.0
+        pl, M, pl_eps, pl_rad, wall_eps, wall_rad = self._walls()
+        T_max = float(sim.T.max())
+        if pl_rad.any():
+            T_max = max(T_max, float(pl.T[pl_rad.astype(bool)].max()))
+        if wall_rad.any():
+            hot = wall_rad.astype(bool)[M.vertex_wall]
+            if hot.any():
+                T_max = max(T_max, float(M.T[hot].max()))
+        if self.T_enclosure is not None:
+            T_max = max(T_max, self.T_enclosure)
+        r = sim.radius
+        c = self.eps_type[sim.type] * 4.0 * math.pi * r * r * sim.particles.mcp_inv
+        return float(self.every * sim.dt * 4.0 * SIGMA * T_max ** 3 * c.max())
+
+    def _check(self):
+        sim = self.sim
+        T_min = float(sim.T.min())
+        if T_min < 0.0:
+            raise GsiInputError(f"dem.radiation: particle temperature {T_min:g} < 0; radiation "
+                                "needs absolute temperatures (K)")
+        ratio = self.stability()
+        if ratio > 1.0 and not sim.force_dt:
+            limit = max(1, int(self.every / ratio))
+            raise GsiInputError(
+                f"dem.radiation_every = {self.every}: the explicit radiation update is unstable "
+                f"(radiation_every x dt x 4 eps sigma T^3 A/(m c_p) = {ratio:.3g} > 1 at step "
+                f"{sim.step_count}); use dem.radiation_every <= {limit} or a smaller run.dt")
+
+    def rates(self, *, record: bool = False) -> Rates:
+        """The heat rates at the current state, without applying them (:class:`Rates`;
+        ``record``: also the dense (n, n) pair matrices, for small systems)."""
+        sim = self.sim
+        n = sim.n
+        pl, M, pl_eps, pl_rad, wall_eps, wall_rad = self._walls()
+        x, r = sim.x, sim.radius
+        area = 4.0 * math.pi * r * r
+        eps = self.eps_type[sim.type]
+        T = sim.T
+        T4 = T * T * T * T
+        rmax = float(r.max()) if n else 0.0
+        dims, inv_cs = nbr.grid_for(sim.lo, sim.hi, 2.0 * self.cutoff * rmax, n)
+        cell_of = np.empty(n, np.int64)
+        nbr.cell_index(n, x, sim.lo, inv_cs, dims, cell_of)
+        cell_start, cell_list = nbr.bin_cells(n, cell_of, int(dims.prod()))
+        nw = len(wall_eps)
+        if wall_rad.any():
+            tcell_start, tcell_list = nbr.bin_triangles(M.x, M.tri, sim.lo, inv_cs, dims,
+                                                        self.cutoff * rmax)
+        else:
+            tcell_start = np.zeros(int(dims.prod()) + 1, np.int64)
+            tcell_list = np.zeros(0, np.int32)
+        area_sum = np.empty(n)
+        wall_tri = np.full((n, nw), -1, np.int64)
+        wall_w = np.zeros((n, nw, 3))
+        view_sums(x, r, area, self.cutoff, sim.lo, inv_cs, dims, cell_start, cell_list,
+                  pl.point, pl.normal, pl_rad, tcell_start, tcell_list, M.x, M.tri,
+                  M.tri_wall, wall_rad, area_sum, wall_tri, wall_w)
+        Q = np.empty(n)
+        Q_plane = np.zeros((n, len(pl_eps)))
+        Q_wall = np.zeros((n, nw))
+        S_mat = np.zeros((n, n) if record else (0, 0))
+        Q_mat = np.zeros((n, n) if record else (0, 0))
+        has_enc = self.T_enclosure is not None
+        T_enc4 = self.T_enclosure ** 4 if has_enc else 0.0
+        exchange(x, r, area, eps, T4, self.cutoff, sim.lo, inv_cs, dims, cell_start,
+                 cell_list, area_sum, pl.point, pl.normal, pl_rad, pl_eps, pl.T ** 4,
+                 M.tri, M.T, wall_eps, wall_tri, wall_w, T_enc4, has_enc, Q, Q_plane,
+                 Q_wall, S_mat, Q_mat)
+        Q_enc = np.where(area_sum == 0.0, Q, 0.0) if has_enc else np.zeros(n)
+        return Rates(Q, Q_plane, Q_wall, Q_enc, area_sum, wall_tri, wall_w,
+                     S_mat if record else None, Q_mat if record else None)
+
+    def apply(self, dt_rad: float) -> None:
+        """Evaluate at the current temperatures and apply over ``dt_rad`` (s): particle
+        temperatures, the walls' accumulators (``plane_state.heat``, ``mesh_state``
+        ``vertex_heat`` and ``wall_heat``) and this model's own totals."""
+        sim = self.sim
+        self._check()
+        R = self.rates()
+        P = sim.particles
+        P.T[:] += dt_rad * R.Q * P.mcp_inv
+        if R.Q_plane.shape[1]:
+            qp = R.Q_plane.sum(0) * dt_rad
+            sim.plane_state.heat[:] += qp
+            self.plane_heat += qp
+        if R.Q_wall.shape[1]:
+            M = sim.mesh_state
+            scatter_wall_heat(dt_rad, R.wall_tri, R.wall_w, R.Q_wall, M.tri, M.tri_p6,
+                              M.tri_lam, M.tri_wall, M.vertex_heat, M.wall_heat,
+                              self.wall_heat)
+        self.enclosure_heat += float(R.Q_enclosure.sum()) * dt_rad
+        self.evaluations += 1
+
+    def heat_from(self, wall) -> float:
+        """Heat radiated from ``wall`` (a PlaneWall or MeshWall of this simulation) into
+        the particles since the start (J)."""
+        sim = self.sim
+        if wall in sim.planes:
+            k, acc = sim.planes.index(wall), self.plane_heat
+        elif wall in sim.mesh_walls:
+            k, acc = sim.mesh_walls.index(wall), self.wall_heat
+        else:
+            raise GsiInputError("radiation.heat_from: not a wall of this simulation")
+        return float(acc[k]) if k < len(acc) else 0.0
+
+    # ------------------------------------------------------------------ checkpoints
+    def state(self) -> dict:
+        """The running totals (J) as arrays (for checkpoints)."""
+        return {"rad.plane_heat": self.plane_heat.copy(), "rad.wall_heat": self.wall_heat.copy(),
+                "rad.scalars": np.array([self.enclosure_heat, self.evaluations], np.float64)}
+
+    def set_state(self, d: dict) -> None:
+        """Restore :meth:`state` (missing keys: totals start at 0)."""
+        self.plane_heat = np.array(d.get("rad.plane_heat", np.zeros(0)), float)
+        self.wall_heat = np.array(d.get("rad.wall_heat", np.zeros(0)), float)
+        enc, ev = d.get("rad.scalars", np.zeros(2))
+        self.enclosure_heat, self.evaluations = float(enc), int(ev)
+        self._done_at = -1

@@ -1,0 +1,229 @@
+"""The rotating drum of Haydar, Martin & Bonnefoy (2023), "Long time extrapolation of DEM
+with heat conduction in a moving granular medium", Chem. Eng. Sci. 277, 118815.
+
+The paper gives the particles and the speed (its Tables 3-4) but not the drum:
+
+- particles r = 5 mm (the table's "0.005 mm" is a slip: dt = 1e-4 s is 0.23 Rayleigh
+  times only for 5 mm), E = 1e7 Pa, nu = 0.3, rho = 2500 kg/m^3, e = 0.2, mu_pp = 0.3,
+  mu_pw = 0.5, mu_r = 0.002 (both), k = 100 W/(m K), c_p = 840 J/(kg K), Hertz contacts
+  with rolling resistance, the "area" conductance H = 2 k sqrt(pi a^2);
+- 5 s per turn; at t_init the left half (x < 0) at 30 K, the right half at 10 K; the wall
+  is adiabatic.
+
+The drum chosen here for 80,000 particles (:data:`REFERENCE`): inner radius R = 0.30 m,
+length L = 2 R = 0.60 m, axis horizontal (along y), so the settled bed fills about 40 %
+of it; at 5 s per turn its Froude number is Fr = omega^2 R/g = 0.0483, the cascading
+regime, as the paper says of 5 s per turn (its Fig. 11: 15 s per turn rolling, 0.1 s
+centrifuging; with R = 0.30 m those are Fr = 0.0054 and 121).
+
+Smaller drums (:func:`drum_geometry`) keep the shape (L = 2 R), the fill and Fr: for N
+particles of the same size, R scales by lambda = (N/80,000)^(1/3) and the period by
+sqrt(lambda) (omega^2 R fixed).  The CI drum, 5,000 particles, is R = 0.1191 m turning
+once in 3.1498 s.
+
+Regimes (:func:`regime`) after Mellmann (2001), Powder Technol. 118, 251-270, whose
+ranges overlap; here split at Fr = 1e-4 (slumping/rolling), 1e-2 (rolling/cascading),
+0.1 (cascading/cataracting) and 1 (centrifuging).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from gsi.errors import GsiInputError
+
+__all__ = ["DrumGeometry", "REFERENCE", "drum_geometry", "froude", "regime", "drum_case",
+           "PARTICLE_RADIUS", "DT", "T_HOT", "T_COLD"]
+
+#: particle radius (m), seed 003 Table 3
+PARTICLE_RADIUS = 0.005
+#: DEM step (s), 0.23 Rayleigh times of the particles
+DT = 1.0e-4
+#: initial temperatures (K) of the left (x < 0) and right halves, seed 003 Table 4
+T_HOT = 30.0
+T_COLD = 10.0
+#: gravity (m/s^2)
+G = 9.81
+
+
+def froude(radius: float, period: float) -> float:
+    """Fr = omega^2 R/g of a drum of inner ``radius`` R (m) turning once per ``period`` (s)."""
+    return (2.0 * math.pi / period) ** 2 * radius / G
+
+
+def regime(fr: float) -> str:
+    """The bed's regime at Froude number ``fr`` (see the module docstring)."""
+    if fr < 1e-4:
+        return "slumping"
+    if fr < 1e-2:
+        return "rolling"
+    if fr < 0.1:
+        return "cascading"
+    if fr < 1.0:
+        return "cataracting"
+    return "centrifuging"
+
+
+@dataclass(frozen=True)
+class DrumGeometry:
+    """A drum of the family (module docstring).
+
+    Attributes
+    ----------
+    particles : int
+    radius, length : float
+        Inner radius and length (m); the axis is y, from y = 0 to y = length, through
+        x = z = 0.
+    steps_per_turn : int
+        DEM steps of :data:`DT` per turn.
+    """
+
+    particles: int
+    radius: float
+    length: float
+    steps_per_turn: int
+
+    @property
+    def period(self) -> float:
+        """Time of one turn (s)."""
+        return self.steps_per_turn * DT
+
+    @property
+    def rpm(self) -> float:
+        return 60.0 / self.period
+
+    @property
+    def froude(self) -> float:
+        return froude(self.radius, self.period)
+
+    @property
+    def regime(self) -> str:
+        return regime(self.froude)
+
+
+#: the 80,000-particle drum (module docstring)
+REFERENCE = DrumGeometry(particles=80_000, radius=0.30, length=0.60, steps_per_turn=50_000)
+
+
+def drum_geometry(particles: int) -> DrumGeometry:
+    """The drum of the family holding ``particles`` spheres of r = 5 mm at the reference
+    fill and Froude number (R, L by lambda = (N/80,000)^(1/3), rounded to 0.1 mm; the
+    period by sqrt(lambda), rounded to whole DEM steps; Fr within 0.1 % of the
+    reference)."""
+    if not (isinstance(particles, (int, np.integer)) and 50 <= particles <= 2_000_000):
+        raise GsiInputError(f"particles = {particles}: must be an integer in [50, 2e6]")
+    lam = (particles / REFERENCE.particles) ** (1.0 / 3.0)
+    steps = int(round(REFERENCE.steps_per_turn * math.sqrt(lam)))
+    return DrumGeometry(particles=int(particles), radius=round(REFERENCE.radius * lam, 4),
+                        length=round(REFERENCE.length * lam, 4), steps_per_turn=steps)
+
+
+def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | None = None,
+              heat: str = "area", seed: int = 3, facets: int | None = None,
+              extrapolation: bool = False, spin_up: float = 1.0, period_turns: float = 1.0,
+              periods: int = 6, every: int = 10, dt_split: float = 0.01,
+              name: str | None = None):
+    """The drum as a :class:`gsi.case.Case`: materials of seed 003 Tables 3-4, a closed
+    ``drum`` wall (adiabatic) at rest for ``settle`` seconds and then turning once per
+    ``geometry.period``, and a lattice fill of ``geometry.particles`` spheres from the
+    bottom of the drum (at 293.15 K).
+
+    Parameters
+    ----------
+    geometry : DrumGeometry
+    settle : float
+        Time (s) the drum stands still while the fill settles.
+    duration : float, optional
+        ``run.duration`` (s); default ``settle`` + one turn, or with ``extrapolation``
+        the end of its comparison.
+    heat : str
+        ``dem.heat`` ("area" as the paper, LIGGGHTS' model).
+    seed : int
+    facets : int, optional
+        Vertices around the drum axis (default: triangles about 2 particle radii wide,
+        at least 48).
+    extrapolation : bool
+        Add the ``[extrapolation]`` table of the paper's study: at ``settle`` the left
+        half (x < 0) at :data:`T_HOT` and the right half at :data:`T_COLD`, ``spin_up``
+        turns, then one period of ``period_turns`` turns logged (sampling ``every``,
+        ``dt_split`` s) and extrapolated over ``periods`` periods, compared with the
+        DEM run on.
+    name : str, optional
+        ``case.name`` (default ``drum_<N>``).
+    """
+    from gsi.case import (Case, CaseInfo, Dem, Material, Output, ParticleSource, Region,
+                          Run, Size, Wall)
+    from gsi.case.materials import Pair
+    from gsi.case.walls import Motion
+    R, L, r = geometry.radius, geometry.length, PARTICLE_RADIUS
+    if facets is None:
+        facets = max(48, int(math.ceil(2 * math.pi * R / (2.5 * r))))
+    grain = Material(E=1.0e7, nu=0.3, rho=2500.0, e=0.2, mu=0.3, mu_r=0.002, k=100.0, cp=840.0)
+    wall = Material(E=1.0e7, nu=0.3, rho=2500.0, e=0.2, mu=0.5, mu_r=0.002, k=100.0, cp=840.0)
+    margin = round(0.05 * R + 4 * r, 3)
+    fill = ParticleSource(
+        name="grains", material="grain", fill="lattice", count=geometry.particles,
+        size=Size(kind="single", radius=r),
+        region=Region(kind="cylinder", centre=(0.0, 0.5 * r, 0.0), axis=(0.0, 1.0, 0.0),
+                      radius=round(R - 0.2 * r, 6), length=round(L - r, 6)))
+    xp = None
+    end = settle + geometry.period
+    if extrapolation:
+        from gsi.case.extrapolation import Extrapolation, Halves
+        steps = int(round(period_turns * geometry.steps_per_turn))
+        start = round(settle + round(spin_up * geometry.steps_per_turn) * DT, 10)
+        xp = Extrapolation(start=start, period=round(steps * DT, 10), periods=periods,
+                           every=every, dt_split=dt_split, compare=True, cells=200,
+                           halves=Halves(t=settle, axis="x", at=0.0, below=T_HOT,
+                                         above=T_COLD))
+        end = xp.end()
+    return Case(
+        case=CaseInfo(name=name or f"drum_{geometry.particles}",
+                      description=f"seed-003 drum, {geometry.particles} spheres of r = 5 mm, "
+                                  f"R = {R:.4g} m, {geometry.period:.4g} s per turn "
+                                  f"(Fr = {geometry.froude:.3g}, {geometry.regime})"),
+        run=Run(duration=end if duration is None else duration, dt=DT, seed=seed,
+                progress=False),
+        dem=Dem(contact="hertz", rolling=True, heat=heat, gravity=(0.0, 0.0, -G),
+                domain_lo=(round(-R - margin, 6), -margin, round(-R - margin, 6)),
+                domain_hi=(round(R + margin, 6), round(L + margin, 6), round(R + margin, 6))),
+        materials={"grain": grain, "drum_wall": wall},
+        pairs=[Pair(materials=("grain", "drum_wall"), e=0.2, mu=0.5, mu_r=0.002)],
+        particles=[fill],
+        walls=[Wall(kind="drum", name="drum", material="drum_wall", centre=(0.0, 0.0, 0.0),
+                    axis=(0.0, 1.0, 0.0), radius=R, length=L, facets=facets,
+                    motion=Motion.schedule([dict(t=settle, rpm=round(geometry.rpm, 6))]))],
+        output=Output(interval=geometry.period if xp is None else xp.period, pictures=False,
+                      color_by="temperature", view="+y"),
+        extrapolation=xp)
+
+
+def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0,
+            seed: int = 3):
+    """Fill, settle and spin up a drum of the family (the paper's set-up before t0).
+
+    The lattice fill settles with the drum at rest for ``settle`` s; then the left half
+    (x < 0) is set to :data:`T_HOT` and the right half to :data:`T_COLD` (t_init), the
+    drum starts turning, and it turns ``spin_up`` turns.
+
+    Returns
+    -------
+    sim : gsi.dem.Simulation
+        At t0 (end of the spin-up).
+    hot : (N,) bool
+        By particle id (``sim.ids`` are 0..N-1): the particle was hot at t_init.
+    case : gsi.case.Case
+    """
+    from gsi.runner import build_simulation
+    case = drum_case(geometry, settle=settle, seed=seed)
+    dt = case.check()
+    sim, handles, _ = build_simulation(case, dt=dt)
+    sim.step(int(round(settle / dt)))
+    hot = np.zeros(sim._next_id, bool)
+    hot[sim.ids] = sim.x[:, 0] < 0.0
+    sim.T[:] = np.where(hot[sim.ids], T_HOT, T_COLD)
+    case.walls[0].apply_motion(handles["drum"], sim.time)
+    sim.step(int(round(spin_up * geometry.steps_per_turn)))
+    return sim, hot, case

@@ -1,0 +1,707 @@
+"""Long-time extrapolation of particle heat conduction from one period of DEM.
+
+The method of Haydar, Martin & Bonnefoy (2023), "Long time extrapolation of DEM with
+heat conduction in a moving granular medium", Chem. Eng. Sci. 277, 118815, built on the
+motion extrapolation of Bednarek et al. (2019), Chem. Eng. Sci. 197, 223-234:
+
+1. Run the DEM to a pseudo-periodic state at t0 and log every contact until t1 = t0 + tau
+   (:meth:`gsi.dem.Simulation.start_contact_log`, :mod:`gsi.dem.contact_log`).
+2. Pair the particles (their eq. 6, :func:`pair_particles`): the bijection sigma between
+   the particles at t0 and at t1 that minimises the summed distance
+   sum_a |x_a(t0) - x_sigma(a)(t1)|.  Particle sigma(a) stands at t1 where a stood at t0,
+   so in the next period it does what a did: x_sigma(a)(t2) = x_a(t1).  After p periods
+   the role of logged particle a is played by sigma^p(a).
+3. Replay the log (their Algorithm 3 with eqs. 7-8, :class:`Replay`): period after
+   period, each row (a, b, m, s) in the order of the log, applied to the particles
+   k = sigma^p(a), l = sigma^p(b) that play a and b now:
+
+       Q = H (T_k - T_l),  H = c s,  T_k <- T_k - Q m/C_k,  T_l <- T_l + Q m/C_l
+
+   with C = m c_p (J/K) and c s the conductance of the DEM's heat model.  Rows with a
+   wall that has a temperature exchange heat with it (T_k <- T_k + H m (T_w - T_k)/C_k,
+   the wall's temperature fixed at its t0 value); rows with an adiabatic wall do
+   nothing.  Each exchange conserves C_k T_k + C_l T_l, so sum C T is conserved to
+   round-off.
+
+   Stability (the explicit update of one row, their section 2.1.3): m < C/(2 K sqrt(a))
+   = C/H, here with C the smaller heat capacity of the two.  A row that breaks it is
+   replayed as s = floor(m H/C) + 1 equal sub-steps of m/s (each then within the
+   bound), counted in :attr:`Replay.n_substepped`; ``on_unstable="error"`` refuses the
+   log instead, naming the row and the largest stable ``dt_split``.
+
+4. Between periods nothing else changes: the extrapolated configuration at every t_n is
+   the configuration at t1 (particle sigma^(n-1)(a) stands at x_a(t1)), relabelled
+   (:meth:`Replay.positions`).
+
+Error measures of the paper: :func:`cell_error` (its eq. 9, on Voronoi cells) and
+:func:`energy_transfer_error` (its eq. 10).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from gsi.errors import GsiInputError
+from gsi.jit import njit
+
+__all__ = ["pair_particles", "pairing_cost", "Replay", "voronoi_seeds", "cell_means",
+           "cell_error", "energy_transfer_error", "period_errors", "compare_with_dem",
+           "CaseExtrapolation", "DENSE_PAIRING_MAX"]
+
+#: up to this many particles ``pair_particles(method="auto")`` solves the dense
+#: assignment problem; above, the sparse one with its certificate (both exact; measured
+#: by benchmarks/pairing.py on a drum-like bed: dense 0.3 s at 2,000 and 6.2 s at
+#: 10,000 particles, sparse 0.03 s and 0.13 s)
+DENSE_PAIRING_MAX = 2_000
+
+
+def pair_particles(x0, x1, *, method="auto", k=8):
+    """The pairing f_ext of eq. 6: the permutation sigma minimising
+    sum_a |x0[a] - x1[sigma[a]]| (Euclidean distances); exact.
+
+    Parameters
+    ----------
+    x0, x1 : (N, 3) float
+        Positions (m) of the same N particles at t0 and t1.
+    method : {"auto", "dense", "sparse"}
+        ``dense``: scipy.optimize.linear_sum_assignment on all N^2 distances (8 N^2
+        bytes).  ``sparse``: scipy.sparse.csgraph.min_weight_full_bipartite_matching on
+        the ``k`` nearest t1 positions of each particle, then a certificate of global
+        optimality: LP dual potentials of that matching (:func:`_dual_potentials`) are
+        checked against every pair close enough to break them (a ball query); pairs that
+        do are added and the matching solved again, until none does.  ``auto``: dense
+        up to :data:`DENSE_PAIRING_MAX` particles.
+    k : int
+        Neighbours per particle of the first sparse graph.
+
+    Returns
+    -------
+    sigma : (N,) int64
+        x1[sigma[a]] is the t1 position paired with x0[a].
+    """
+    from scipy.optimize import linear_sum_assignment
+    x0 = np.asarray(x0, float)
+    x1 = np.asarray(x1, float)
+    n = len(x0)
+    if x0.shape != x1.shape or x0.ndim != 2 or x0.shape[1] != 3:
+        raise GsiInputError(f"pair_particles: x0 {x0.shape} and x1 {x1.shape} must both be "
+                            "(N, 3)")
+    if method not in ("auto", "dense", "sparse"):
+        raise GsiInputError(f"pairing method = {method!r}: must be 'auto', 'dense' or "
+                            "'sparse'")
+    if method == "dense" or (method == "auto" and n <= DENSE_PAIRING_MAX):
+        from scipy.spatial.distance import cdist
+        rows, cols = linear_sum_assignment(cdist(x0, x1))
+        sigma = np.empty(n, np.int64)
+        sigma[rows] = cols
+        return sigma
+    return _sparse_pairing(x0, x1, min(k, n))
+
+
+def _sparse_pairing(x0, x1, k):
+    """The exact assignment through sparse matchings and a dual certificate (see
+    :func:`pair_particles`)."""
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import min_weight_full_bipartite_matching
+    from scipy.spatial import cKDTree
+    n = len(x0)
+    tree1 = cKDTree(x1)
+    tree0 = cKDTree(x0)
+    _, j = tree1.query(x0, k=k)
+    a = np.repeat(np.arange(n), k)
+    b = np.asarray(j).reshape(-1)
+    scale = float(np.ptp(np.vstack([x0, x1]), axis=0).max()) or 1.0
+    tol = 1e-12 * scale
+    while True:
+        edges = np.unique(a * n + b)
+        a, b = edges // n, edges % n
+        c = np.linalg.norm(x0[a] - x1[b], axis=1)
+        # a zero distance would be a missing entry of the sparse matrix
+        G = csr_matrix((np.maximum(c, 1e-300), (a, b)), shape=(n, n))
+        G.sort_indices()
+        try:
+            rows, cols = min_weight_full_bipartite_matching(G)
+        except ValueError:               # no perfect matching in the graph: more neighbours
+            k = min(2 * k, n)
+            _, j = tree1.query(x0, k=k)
+            a = np.concatenate([a, np.repeat(np.arange(n), k)])
+            b = np.concatenate([b, np.asarray(j).reshape(-1)])
+            continue
+        sigma = np.empty(n, np.int64)
+        sigma[rows] = cols
+        c_m = np.linalg.norm(x0 - x1[sigma], axis=1)
+        cost = np.linalg.norm(x0[np.repeat(np.arange(n), np.diff(G.indptr))]
+                              - x1[G.indices], axis=1)
+        pi_row, ok = _dual_potentials(G.indptr, G.indices, cost, sigma, c_m)
+        if not ok:                       # cannot happen for an optimal matching
+            raise RuntimeError("pairing: the sparse matching is not optimal on its graph")
+        u = -pi_row                                   # u_a + v_b <= c(a, b), = on sigma
+        v = np.empty(n)
+        v[sigma] = c_m + pi_row
+        U = float(u.max())
+        radius = U + v + tol
+        near = tree0.query_ball_point(x1, np.maximum(radius, 0.0))
+        cnt = np.array([len(q) for q in near])
+        if cnt.sum() == 0:
+            return sigma
+        ca = np.concatenate([np.asarray(q, np.int64) for q in near if len(q)])
+        cb = np.repeat(np.arange(n), cnt)
+        bad = u[ca] + v[cb] > np.linalg.norm(x0[ca] - x1[cb], axis=1) + tol
+        if not bad.any():
+            return sigma
+        a = np.concatenate([a, ca[bad]])
+        b = np.concatenate([b, cb[bad]])
+
+
+@njit
+def _dual_potentials(indptr, indices, cost, sigma, c_m):
+    """Shortest-path potentials of the rows in the residual graph of a matching
+    (Bellman-Ford from a source joined to every row at cost 0): an unmatched edge a -> b
+    costs c(a, b), a matched one b -> sigma^-1(b) costs -c.  Returns (pi_row, ok);
+    ok is False if a negative cycle exists (the matching is not optimal)."""
+    n = sigma.shape[0]
+    pi_row = np.zeros(n)
+    pi_col = np.full(n, np.inf)
+    for _ in range(2 * n + 2):
+        changed = False
+        for a in range(n):
+            da = pi_row[a]
+            for q in range(indptr[a], indptr[a + 1]):
+                b = indices[q]
+                if b == sigma[a]:
+                    continue
+                d = da + cost[q]
+                if d < pi_col[b]:
+                    pi_col[b] = d
+        for a in range(n):
+            d = pi_col[sigma[a]] - c_m[a]
+            if d < pi_row[a]:
+                pi_row[a] = d
+                changed = True
+        if not changed:
+            return pi_row, True
+    return pi_row, False
+
+
+def pairing_cost(x0, x1, sigma) -> float:
+    """sum_a |x0[a] - x1[sigma[a]]| (m)."""
+    return float(np.linalg.norm(np.asarray(x0) - np.asarray(x1)[sigma], axis=1).sum())
+
+
+@njit
+def _replay_rows(T, a, b, w, Tw, inv_C):
+    """Apply the rows in order to T (the particles' temperatures in the log's frame:
+    T[a] belongs to the particle playing logged particle a): eqs. 7-8 for b >= 0, a
+    fixed-temperature wall ``Tw`` for b < 0."""
+    for r in range(a.shape[0]):
+        ka = a[r]
+        kb = b[r]
+        if kb >= 0:
+            q = w[r] * (T[ka] - T[kb])
+            T[ka] -= q * inv_C[ka]
+            T[kb] += q * inv_C[kb]
+        else:
+            T[ka] += w[r] * (Tw[r] - T[ka]) * inv_C[ka]
+
+
+class Replay:
+    """The heat extrapolation (Algorithm 3, eqs. 7-8) of a :class:`ContactLog`.
+
+    Parameters
+    ----------
+    log : gsi.dem.contact_log.ContactLog
+    sigma : (N,) int, optional
+        The pairing (:func:`pair_particles`); default computed from ``log.x0``,
+        ``log.x1`` (its time in :attr:`pairing_seconds`).
+    on_unstable : {"substep", "error"}
+        What a row breaking the stability bound m < C/H does (module docstring).
+    pairing : str
+        ``method`` of :func:`pair_particles`.
+
+    Attributes
+    ----------
+    sigma : (N,) int64
+    n_rows : int
+        Rows replayed per period (after sub-steps; adiabatic wall rows dropped).
+    n_substepped : int
+        Log rows split into sub-steps by the stability bound.
+    max_stability_ratio : float
+        max over rows of m H/C (the bound is < 1).
+    pairing_seconds, setup_seconds : float
+    """
+
+    def __init__(self, log, *, sigma=None, on_unstable="substep", pairing="auto"):
+        if on_unstable not in ("substep", "error"):
+            raise GsiInputError(f"on_unstable = {on_unstable!r}: must be 'substep' or 'error'")
+        self.log = log
+        t = time.perf_counter()
+        self.sigma = (pair_particles(log.x0, log.x1, method=pairing) if sigma is None
+                      else np.asarray(sigma, np.int64))
+        self.pairing_seconds = time.perf_counter() - t
+        n = log.n_particles
+        if self.sigma.shape != (n,) or not np.array_equal(np.sort(self.sigma), np.arange(n)):
+            raise GsiInputError(f"sigma: must be a permutation of 0..{n - 1}")
+        t = time.perf_counter()
+        C = np.asarray(log.heat_capacity, float)
+        typ = log.type
+        # particle-particle rows and the wall rows that exchange heat, in log order
+        w_pp = (log.pp_dur * log.dt) * log.coef[typ[log.pp_i], typ[log.pp_j]] \
+            * log.pp_size.astype(float)
+        keep = log.wall_has_T[log.pw_wall] if len(log.pw_wall) else np.zeros(0, bool)
+        pw_i, pw_wall = log.pw_i[keep], log.pw_wall[keep]
+        w_pw = (log.pw_dur[keep] * log.dt) * log.coef[typ[pw_i], log.wall_type[pw_wall]] \
+            * log.pw_size[keep].astype(float)
+        start = np.concatenate([log.pp_start, log.pw_start[keep]])
+        m = np.concatenate([log.pp_dur, log.pw_dur[keep]]) * log.dt
+        a = np.concatenate([log.pp_i, pw_i]).astype(np.int32)
+        b = np.concatenate([log.pp_j, np.full(len(pw_i), -1, np.int32)]).astype(np.int32)
+        w = np.concatenate([w_pp, w_pw])
+        Tw = np.concatenate([np.zeros(len(w_pp)), log.wall_T[pw_wall]])
+        order = np.argsort(start, kind="stable")      # pp rows are already in log order
+        a, b, w, Tw, m = a[order], b[order], w[order], Tw[order], m[order]
+        C_min = np.where(b >= 0, np.minimum(C[a], C[np.maximum(b, 0)]), C[a])
+        ratio = w / C_min                              # m H/C: stable below 1
+        self.max_stability_ratio = float(ratio.max()) if len(ratio) else 0.0
+        bad = ratio >= 1.0
+        self.n_substepped = int(bad.sum())
+        if self.n_substepped and on_unstable == "error":
+            r = int(np.argmax(ratio))
+            m_max = float(np.min(m[ratio > 0] / ratio[ratio > 0]))
+            raise GsiInputError(
+                f"on_unstable = 'error': {self.n_substepped} rows of the contact log break "
+                f"the stability bound m < C/H of the explicit replay (worst: row {r}, "
+                f"m H/C = {ratio[r]:.3g}); log with dt_split < {m_max:.3g} s or replay "
+                "with on_unstable = 'substep'")
+        if self.n_substepped:
+            s = np.where(bad, np.floor(ratio) + 1, 1).astype(np.int64)
+            a, b, Tw = np.repeat(a, s), np.repeat(b, s), np.repeat(Tw, s)
+            w = np.repeat(w / s, s)
+        self._a, self._b, self._w, self._Tw = a, b, w, Tw
+        self.n_rows = len(a)
+        # load (or compile) the kernel now, so that run() times the replay alone
+        _replay_rows(np.zeros(1), a[:0], b[:0], w[:0], Tw[:0], np.ones(1))
+        self.setup_seconds = time.perf_counter() - t
+
+    def run(self, periods, *, T=None, positions=False):
+        """Extrapolate ``periods`` periods from t1.
+
+        Parameters
+        ----------
+        periods : int
+        T : (N,) float, optional
+            Temperatures at t1 (log order), default ``log.T1``.
+        positions : bool
+            Also return the extrapolated positions at each t_n.
+
+        Returns
+        -------
+        dict
+            ``T`` (periods + 1, N): temperatures of the logged particles (log order, by
+            particle identity) at t1, t2, ...; ``time`` (periods + 1,) s; with
+            ``positions``, ``x`` (periods + 1, N, 3) m; ``seconds``: replay wall time.
+        """
+        log = self.log
+        n = log.n_particles
+        T_real = np.array(log.T1 if T is None else T, float)
+        if T_real.shape != (n,):
+            raise GsiInputError(f"T: must have {n} temperatures (log order)")
+        inv_C_real = 1.0 / np.asarray(log.heat_capacity, float)
+        out_T = np.empty((periods + 1, n))
+        out_T[0] = T_real
+        out_x = np.empty((periods + 1, n, 3)) if positions else None
+        if positions:
+            out_x[0] = log.x1
+        role = np.arange(n)              # role[a]: the particle playing a at the last t_n
+        t = time.perf_counter()
+        for p in range(1, periods + 1):
+            role = role[self.sigma]      # sigma^p
+            Tt = T_real[role]
+            _replay_rows(Tt, self._a, self._b, self._w, self._Tw, inv_C_real[role])
+            T_real[role] = Tt
+            out_T[p] = T_real
+            if positions:
+                out_x[p][role] = log.x1
+        seconds = time.perf_counter() - t
+        res = {"T": out_T, "time": log.t1 + log.period * np.arange(periods + 1),
+               "seconds": seconds}
+        if positions:
+            res["x"] = out_x
+        return res
+
+    def positions(self, periods):
+        """Extrapolated positions (periods + 1, N, 3) (m) at t1, t2, ... (log order)."""
+        n = self.log.n_particles
+        out = np.empty((periods + 1, n, 3))
+        out[0] = self.log.x1
+        role = np.arange(n)
+        for p in range(1, periods + 1):
+            role = role[self.sigma]
+            out[p][role] = self.log.x1
+        return out
+
+
+def voronoi_seeds(x, count=200, *, seed=0):
+    """``count`` seed points of the Voronoi cells of eq. 9: positions of distinct
+    particles drawn at random (generator ``seed``) from ``x`` (m), so every cell lies in
+    the bed."""
+    x = np.asarray(x, float)
+    if count > len(x):
+        raise GsiInputError(f"voronoi cells = {count}: more than the {len(x)} particles")
+    rng = np.random.default_rng(seed)
+    return x[rng.choice(len(x), count, replace=False)]
+
+
+def cell_means(seeds, x, T):
+    """Mean of T over the particles of each Voronoi cell (nearest seed); NaN where a
+    cell holds none.  Returns (means (v,), counts (v,))."""
+    from scipy.spatial import cKDTree
+    cell = cKDTree(seeds).query(np.asarray(x, float))[1]
+    v = len(seeds)
+    count = np.bincount(cell, minlength=v)
+    total = np.bincount(cell, weights=np.asarray(T, float), minlength=v)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return total / count, count
+
+
+def cell_error(seeds, x_dem, T_dem, x_ext, T_ext, *, hot=None):
+    """The error of eq. 9 on the Voronoi cells of ``seeds``.
+
+    eps_abs = (1/v) sum_cells |mean T_DEM - mean T_extra| over the v cells that hold
+    particles in both fields; eps_rel = eps_abs/|T_hot - T_cold| with T_hot, T_cold the
+    DEM means of the particles flagged ``hot`` and the others (if given).
+
+    Returns
+    -------
+    (eps_abs, eps_rel, cells_used)
+    """
+    m_dem, c_dem = cell_means(seeds, x_dem, T_dem)
+    m_ext, c_ext = cell_means(seeds, x_ext, T_ext)
+    both = (c_dem > 0) & (c_ext > 0)
+    eps_abs = float(np.abs(m_dem[both] - m_ext[both]).mean())
+    eps_rel = np.nan
+    if hot is not None:
+        hot = np.asarray(hot, bool)
+        diff = abs(float(np.mean(T_dem[hot]) - np.mean(T_dem[~hot])))
+        eps_rel = eps_abs / diff if diff > 0 else np.inf
+    return eps_abs, eps_rel, int(both.sum())
+
+
+def energy_transfer_error(T_dem_n, T_dem_next, T_ext_n, T_ext_next):
+    """eq. 10: (sum |T_{n+1} - T_n| - sum |T^ext_{n+1} - T^ext_n|)/sum |T_{n+1} - T_n|,
+    sums over the particles (by identity); signed (positive: the extrapolation moves
+    less heat than the DEM)."""
+    dem = float(np.abs(np.asarray(T_dem_next) - T_dem_n).sum())
+    ext = float(np.abs(np.asarray(T_ext_next) - T_ext_n).sum())
+    return (dem - ext) / dem
+
+
+def period_errors(log, res, T_dem, x_dem, seeds, hot):
+    """The errors at t_2 ... t_{P+1} of a replay ``res`` (:meth:`Replay.run` with
+    positions) against the DEM's ``T_dem``, ``x_dem`` (P + 1, N, ...) from t1 (log
+    order): eq. 9 (``eps_abs`` K, ``eps_rel``), eq. 10 (``energy_error``), and the drift
+    of sum m c_p T of the replay relative to t1 (``energy_drift``, P + 1 values)."""
+    eps_abs, eps_rel, eps_e = [], [], []
+    for n in range(1, len(T_dem)):
+        ea, er, _ = cell_error(seeds, x_dem[n], T_dem[n], res["x"][n], res["T"][n], hot=hot)
+        eps_abs.append(ea)
+        eps_rel.append(er)
+        eps_e.append(energy_transfer_error(T_dem[n - 1], T_dem[n], res["T"][n - 1],
+                                           res["T"][n]))
+    E = res["T"] @ log.heat_capacity
+    return dict(eps_abs=np.array(eps_abs), eps_rel=np.array(eps_rel),
+                energy_error=np.array(eps_e), energy_drift=np.abs(E - E[0]) / abs(E[0]))
+
+
+def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=None,
+                     cells=200, seed=0, log_dir=None, say=None):
+    """Extrapolate from one logged period of ``sim`` and compare with its own full DEM.
+
+    From the state of ``sim`` (t0): for each ``(every, dt_split)`` of ``samplings``, log
+    the period t0..t1 (``period_steps`` steps) and replay it for ``periods`` periods;
+    the first sampling's run then continues as the reference DEM to t1 + periods tau
+    (the others restart from the state at t0: the DEM is deterministic, so their t1 is
+    the same, which is checked).
+
+    Errors at each t_{n+1} (n = 1..periods): eq. 9 on ``cells`` Voronoi cells whose seeds
+    are the positions at t1 of ``cells`` particles drawn at random (generator ``seed``;
+    the extrapolated configuration at every t_n is that of t1, relabelled), absolute and
+    relative to |T_hot - T_cold| (DEM means of the particles flagged ``hot``, by id);
+    eq. 10 from t_n to t_{n+1}; the drift of sum C T of the replay and of the DEM
+    relative to its value at t1.
+
+    Returns
+    -------
+    dict
+        ``dem``: reference (``T``, ``x`` (periods + 1, N, ...) by log order, ``seconds``
+        (wall) and ``cpu`` (process CPU time) per period, ``energy_drift``); ``runs``:
+        per sampling a dict with ``every``,
+        ``dt_split``, ``log`` (the :class:`ContactLog`), ``log_seconds`` (the DEM period
+        with the log on), ``file_bytes``, ``file_seconds``, ``pairing_seconds``,
+        ``replay_setup_seconds`` (once, with the pairing), ``replay_seconds`` (per
+        period), CPU times ``log_cpu``, ``setup_cpu``, ``replay_cpu``, ``T``, ``x``,
+        ``eps_abs``, ``eps_rel``,
+        ``energy_error`` (eq. 10), ``energy_drift``, ``n_substepped``,
+        ``max_stability_ratio``, ``same_t1``.
+    """
+    import pathlib
+    say = say or (lambda *a: None)
+    state0 = sim.state()
+    runs = []
+    dem = None
+    seeds = None
+    for k, (every, dt_split) in enumerate(samplings):
+        if k:
+            sim.set_state(state0)
+        t, c = time.perf_counter(), time.process_time()
+        sim.start_contact_log(every=every, dt_split=dt_split)
+        sim.step(period_steps)
+        log = sim.stop_contact_log()
+        run = {"every": every, "dt_split": dt_split, "log": log,
+               "log_seconds": time.perf_counter() - t, "log_cpu": time.process_time() - c}
+        say(f"logged t0..t1 with every = {every}, dt_split = {dt_split}: "
+            f"{log.n_collisions} rows in {run['log_seconds']:.1f} s")
+        hot_log = None if hot is None else np.asarray(hot)[log.ids]
+        if dem is None:
+            rows = sim.index(log.ids)
+            T_dem = [sim.T[rows].copy()]
+            x_dem = [sim.x[rows].copy()]
+            t, c = time.perf_counter(), time.process_time()
+            for p in range(periods):
+                sim.step(period_steps)
+                rows = sim.index(log.ids)
+                T_dem.append(sim.T[rows].copy())
+                x_dem.append(sim.x[rows].copy())
+                say(f"reference DEM: period {p + 1}/{periods}")
+            C = log.heat_capacity
+            E = np.array([float(C @ T) for T in T_dem])
+            dem = {"T": np.array(T_dem), "x": np.array(x_dem),
+                   "seconds": (time.perf_counter() - t) / periods,
+                   "cpu": (time.process_time() - c) / periods,
+                   "energy_drift": np.abs(E - E[0]) / abs(E[0]), "T1": log.T1}
+            seeds = voronoi_seeds(log.x1, cells, seed=seed)
+        run["same_t1"] = bool(np.array_equal(log.T1, dem["T1"]))
+        if log_dir is not None:
+            path = pathlib.Path(log_dir) / f"contact_log_every{every}.npz"
+            t = time.perf_counter()
+            run["file_bytes"] = log.save(path)
+            run["file_seconds"] = time.perf_counter() - t
+        c = time.process_time()
+        rep = Replay(log)
+        c_setup = time.process_time() - c
+        c = time.process_time()
+        res = rep.run(periods, positions=True)
+        run["replay_cpu"] = (time.process_time() - c) / periods
+        run["setup_cpu"] = c_setup
+        run.update(pairing_seconds=rep.pairing_seconds, replay_setup_seconds=rep.setup_seconds,
+                   replay_seconds=res["seconds"] / periods,
+                   n_substepped=rep.n_substepped, max_stability_ratio=rep.max_stability_ratio,
+                   T=res["T"], x=res["x"], n_rows=rep.n_rows)
+        run.update(period_errors(log, res, dem["T"], dem["x"], seeds, hot_log))
+        runs.append(run)
+        say(f"every = {every}: eps_abs max {run['eps_abs'].max():.3g} K, eps_rel max "
+            f"{np.nanmax(run['eps_rel']):.3g}, eq. 10 max "
+            f"|{np.abs(run['energy_error']).max():.3g}|")
+    return {"dem": dem, "runs": runs, "seeds": seeds}
+
+
+class CaseExtrapolation:
+    """The ``[extrapolation]`` table of a case, run by :class:`gsi.runner.Runner`.
+
+    Parameters
+    ----------
+    spec : gsi.case.extrapolation.Extrapolation
+    dt : float
+        DEM step (s).
+    out : pathlib.Path
+        Output directory (``contact_log.npz``, ``extrapolation.csv``, pictures).
+    """
+
+    def __init__(self, spec, *, dt, out):
+        self.spec = spec
+        self.out = out
+        self.K = int(round(spec.period / dt))
+        self.k_halves = None if spec.halves is None else int(round(spec.halves.t / dt))
+        self.k0 = int(round(spec.start / dt))
+        self.k1 = self.k0 + self.K
+        self.steps = ([] if self.k_halves is None else [self.k_halves]) + [self.k0, self.k1]
+        if spec.compare:
+            self.steps += [self.k1 + p * self.K for p in range(1, spec.periods + 1)]
+        self.hot = None
+        self.log = None
+        self.res = None
+        self.dem_T, self.dem_x = [], []
+        self.t0_state = None
+        self.times = {}
+
+    def at_step(self, k, sim, say=print):
+        """Act at DEM step ``k`` (call after every chunk; only event steps do anything)."""
+        s = self.spec
+        if k == self.k_halves:
+            h = s.halves
+            d = "xyz".index(h.axis)
+            below = sim.x[:, d] < h.at
+            sim.T[:] = np.where(below, h.below, h.above)
+            self.hot = np.zeros(int(sim.ids.max()) + 1, bool)
+            self.hot[sim.ids] = below if h.below >= h.above else ~below
+        if k == self.k0:
+            order = np.argsort(sim.ids, kind="stable")
+            self.t0_state = (sim.x[order].copy(), sim.T[order].copy())
+            sim.start_contact_log(every=s.every, dt_split=s.dt_split)
+            self.times["log_start"] = time.perf_counter()
+        if k == self.k1:
+            self.log = sim.stop_contact_log()
+            t = time.perf_counter()
+            self.times["collision_file_s"] = t - self.times.pop("log_start")
+            self.times["file_bytes"] = self.log.save(self.out / "contact_log.npz")
+            rep = Replay(self.log)
+            self.res = rep.run(s.periods, positions=True)
+            self.times.update(pairing_s=rep.pairing_seconds, replay_setup_s=rep.setup_seconds,
+                              extrap_s_per_period=self.res["seconds"] / s.periods,
+                              rows=rep.n_rows)
+            say(f"extrapolation: {self.log.n_collisions} collisions logged "
+                f"({self.log.bytes_per_collision():.1f} bytes each), {s.periods} periods "
+                f"extrapolated in {self.res['seconds']:.3g} s")
+            self.times["dem_start"] = time.perf_counter()
+        if s.compare and k >= self.k1 and (k - self.k1) % self.K == 0 and \
+                len(self.dem_T) <= s.periods and self.log is not None:
+            rows = sim.index(self.log.ids)
+            self.dem_T.append(sim.T[rows].copy())
+            self.dem_x.append(sim.x[rows].copy())
+            if len(self.dem_T) == s.periods + 1:
+                self.times["dem_s_per_period"] = \
+                    (time.perf_counter() - self.times.pop("dem_start")) / s.periods
+
+    def finish(self, name="case"):
+        """Write ``extrapolation.csv`` and the pictures; return the summary numbers."""
+        s, log, res = self.spec, self.log, self.res
+        if log is None:
+            return {}
+        n = s.periods
+        hot = None if self.hot is None else self.hot[log.ids]
+        full = s.compare and len(self.dem_T) == n + 1
+        err = {}
+        if full:
+            seeds = voronoi_seeds(log.x1, min(s.cells, log.n_particles), seed=0)
+            err = period_errors(log, res, np.array(self.dem_T), np.array(self.dem_x), seeds,
+                                hot)
+            self._seeds = seeds
+        cols = {"time_s": res["time"]}
+        if hot is not None:
+            cols["T_hot_extra"] = res["T"][:, hot].mean(1)
+            cols["T_cold_extra"] = res["T"][:, ~hot].mean(1)
+            if full:
+                D = np.array(self.dem_T)
+                cols["T_hot_dem"] = D[:, hot].mean(1)
+                cols["T_cold_dem"] = D[:, ~hot].mean(1)
+        cols["T_mean_extra"] = res["T"] @ log.heat_capacity / log.heat_capacity.sum()
+        if full:
+            cols["T_mean_dem"] = np.array(self.dem_T) @ log.heat_capacity \
+                / log.heat_capacity.sum()
+            for key in ("eps_abs", "eps_rel", "energy_error"):
+                cols[key] = np.concatenate([[np.nan], err[key]])
+            cols["energy_drift"] = err["energy_drift"]
+        with open(self.out / "extrapolation.csv", "w") as f:
+            f.write(",".join(cols) + "\n")
+            for r in range(n + 1):
+                f.write(",".join(f"{cols[c][r]:.17g}" for c in cols) + "\n")
+        summary = {"extrap_collisions": log.n_collisions,
+                   "extrap_bytes_per_collision": round(log.bytes_per_collision(), 2),
+                   "extrap_s_per_period": self.times["extrap_s_per_period"],
+                   "pairing_s": self.times["pairing_s"],
+                   "replay_setup_s": self.times["replay_setup_s"],
+                   "collision_file_s": self.times["collision_file_s"]}
+        if full:
+            summary.update(dem_s_per_period=self.times["dem_s_per_period"],
+                           speedup_per_period=self.times["dem_s_per_period"]
+                           / self.times["extrap_s_per_period"],
+                           eps_abs_max=float(err["eps_abs"].max()),
+                           eps_rel_max=float(np.nanmax(err["eps_rel"])),
+                           energy_err_max=float(np.abs(err["energy_error"]).max()),
+                           energy_drift_max=float(err["energy_drift"].max()))
+        self.cols = cols
+        self.files = [self.out / "extrapolation.csv", self.out / "contact_log.npz"]
+        return summary
+
+    def pictures(self, name="case", view="iso"):
+        """The temperature fields at t0, t1 and the last t_n (full DEM and extrapolated,
+        projected along the axis of ``view`` -- "+y" looks along y -- or, for "iso", the
+        axis the bed spreads least over), the group means against time, and the
+        Voronoi-cell error map at the last t_n; returns the files."""
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        log, res, cols = self.log, self.res, self.cols
+        if log is None:
+            return []
+        full = len(self.dem_T) == self.spec.periods + 1
+        x0, T0 = self.t0_state
+        drop = "xyz".index(view[1]) if view[0] in "+-" else int(np.argmin(np.ptp(log.x1, 0)))
+        u, v = [d for d in range(3) if d != drop]
+        files = []
+        last = self.spec.periods
+        lo = min(T0.min(), log.T1.min())
+        hi = max(T0.max(), log.T1.max())
+        panels = [("full DEM, t0", x0, T0), ("full DEM, t1", log.x1, log.T1)]
+        if full:
+            panels.append((f"full DEM, t{last + 1}", self.dem_x[last], self.dem_T[last]))
+        panels += [("extrapolated, t0 (= DEM)", x0, T0), ("extrapolated, t1 (= DEM)", log.x1,
+                                                          log.T1),
+                   (f"extrapolated, t{last + 1}", res["x"][last], res["T"][last])]
+        ncol = 3
+        fig, axes = plt.subplots(2 if full else 1, ncol, figsize=(4 * ncol, 3.8 * (2 if full
+                                                                                   else 1)),
+                                 squeeze=False)
+        if not full:
+            panels = panels[2:]
+        allx = np.vstack([p[1] for p in panels])
+        pad = 0.03 * np.ptp(allx, axis=0)
+        for ax, (title, x, T) in zip(axes.ravel(), panels):
+            sc = ax.scatter(x[:, u], x[:, v], c=T, s=6, cmap="coolwarm", vmin=lo, vmax=hi)
+            ax.set_title(title, fontsize=9)
+            ax.set_xlim(allx[:, u].min() - pad[u], allx[:, u].max() + pad[u])
+            ax.set_ylim(allx[:, v].min() - pad[v], allx[:, v].max() + pad[v])
+            ax.set_aspect("equal")
+            ax.set_xticks([])
+            ax.set_yticks([])
+        fig.colorbar(sc, ax=axes.ravel().tolist(), shrink=0.8, label="T (K)")
+        fig.savefig(self.out / "extrapolation_fields.png", dpi=90)
+        plt.close(fig)
+        files.append(self.out / "extrapolation_fields.png")
+        if "T_hot_extra" in cols:
+            fig, ax = plt.subplots(figsize=(6, 4))
+            t = cols["time_s"]
+            ax.plot(t, cols["T_hot_extra"], "o--", color="tab:red", label="hot, extrapolated")
+            ax.plot(t, cols["T_cold_extra"], "o--", color="tab:blue", label="cold, extrapolated")
+            if "T_hot_dem" in cols:
+                ax.plot(t, cols["T_hot_dem"], "-", color="tab:red", label="hot, full DEM")
+                ax.plot(t, cols["T_cold_dem"], "-", color="tab:blue", label="cold, full DEM")
+            ax.set_xlabel("time (s)")
+            ax.set_ylabel("mean temperature (K)")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=8)
+            ax.set_title(f"{name}: mean temperature of the initially hot and cold halves",
+                         fontsize=9)
+            fig.tight_layout()
+            fig.savefig(self.out / "extrapolation_means.png", dpi=90)
+            plt.close(fig)
+            files.append(self.out / "extrapolation_means.png")
+        if full:
+            seeds = self._seeds
+            m_dem, c_dem = cell_means(seeds, self.dem_x[last], self.dem_T[last])
+            m_ext, c_ext = cell_means(seeds, res["x"][last], res["T"][last])
+            ok = (c_dem > 0) & (c_ext > 0)
+            fig, ax = plt.subplots(figsize=(5.5, 4.5))
+            ax.scatter(log.x1[:, u], log.x1[:, v], s=3, color="0.85")
+            sc = ax.scatter(seeds[ok, u], seeds[ok, v], c=np.abs(m_dem - m_ext)[ok], s=40,
+                            cmap="viridis", edgecolors="k", linewidths=0.3)
+            fig.colorbar(sc, ax=ax, label="|mean T_DEM - mean T_extra| (K)")
+            ax.set_aspect("equal")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            ax.set_title(f"eq. 9 per Voronoi cell at t{last + 1} ({ok.sum()} cells, "
+                         f"seeds shown)", fontsize=9)
+            fig.savefig(self.out / "extrapolation_cells.png", dpi=90)
+            plt.close(fig)
+            files.append(self.out / "extrapolation_cells.png")
+        return files
