@@ -19,23 +19,41 @@ For each: ``setup_s`` (assembly and the factorization or the multigrid hierarchy
 FFCx compilation excluded by a warm-up), ``first_s`` (first solve), ``step_s`` (mean
 per-step wall time of the following steps, all ranks), Krylov iterations per solve,
 and the peak memory per rank (getrusage ru_maxrss, its high-water mark reset before each
-case through /proc/self/clear_refs, glibc told to give freed memory back), summed (``peak_gb``) and largest (``rank_gb``) over
-the ranks. The last line is machine-readable key=value: ``max_dofs`` (largest dynamic
-case), ``ranks``, ``solver``, ``step_s_at_max`` (its dynamic step), ``peak_mem_gb`` (the
-largest total over every case run), ``exponent`` (least-squares slope of log dynamic
-step time against log dofs, iterative solver if it ran), the same slopes of the static
-re-solve and the heat step, the iterations at the largest size and the load average
-(``uptime``) at the start and the end.
+case through /proc/self/clear_refs, glibc told to give freed memory back), summed
+(``peak_gb``) and largest (``rank_gb``) over the ranks, with the resident memory at the
+case's start (``base_gb``, summed: what earlier cases left, which the peak includes; with
+``--largest-first`` it is the larger cases' heap). The last line is machine-readable
+key=value: ``max_dofs`` (largest dynamic case), ``ranks``, ``solver``, ``step_s_at_max``
+(its dynamic step), ``peak_mem_gb`` (the largest total over every case run), ``exponent``
+(least-squares slope of log dynamic step time against log dofs, iterative solver if it
+ran), the same slopes of the static re-solve and the heat step, the iterations at the
+largest size and the load average (``uptime``) at the start and the end.
 
 The direct solver is skipped above ``--direct-max-dofs`` (its memory grows faster than the
-dofs; 3.4 GB on one rank at 1.6e5 dofs here), the static problem above
-``--static-max-dofs`` (from u = 0 the iterative solver needs ~2000 CG iterations on this
-thin wall: half an hour per solve at 1.6e5 dofs).
+dofs), the static problem above ``--static-max-dofs`` (from u = 0 the iterative solver
+needs ~2000 CG iterations on this thin wall: 27 s on one rank at 1e4 dofs).
+
+Crossover (measured 2026-12-02 on the 2-core test machine while other jobs loaded it,
+load average 4-6: the times are 2-3 times an idle machine's; ``solver = "auto"`` takes its
+threshold, :data:`gsi.fem.options.AUTO_ITERATIVE_DOFS`, from these figures):
+
+* elasticity, dynamic step: the direct solve is 50-100 times faster than the iterative
+  one at every size measured (1e4-1e5 dofs; 1e5 on 2 ranks: 1.4 s against 81 s, 505 CG
+  iterations), and even a single solve, factorization included, is cheaper up to ~2e5
+  dofs (1e5 on 2 ranks: 37 s against 102 s); the direct solver's memory is what stops it:
+  SuperLU_DIST on 2 ranks held 12.5 GB at 2.8e5 dofs (benchmarks/coupled_large.py), MUMPS
+  on one rank 2.8 GB at 2.1e5. The iterative solver's iterations fall as the mesh is
+  refined (the elements' in-plane size approaches the wall's 10 mm: 884 at 1e4, 505 at
+  1e5, 159 at 1e6 dofs), so its step time grows as dofs^0.67 on 2 ranks;
+* heat: CG + BoomerAMG needs 9-13 iterations at every size; per step it is 2-10 times
+  slower than the direct solve up to 1e5 dofs, its set-up 4-6 times faster.
 
 Run::
 
-    mpirun -n 1 python benchmarks/fe_scale.py --solver both --max-dofs 3e5
-    mpirun -n 2 python benchmarks/fe_scale.py --solver iterative --max-dofs 1e6
+    mpirun -n 2 python benchmarks/fe_scale.py --solver both --max-dofs 1e6 --sizes 5 \
+        --steps 1 --direct-max-dofs 1.1e5 --static-max-dofs 1.1e4 --largest-first
+    mpirun -n 1 python benchmarks/fe_scale.py --solver both --max-dofs 1e5 --sizes 3 \
+        --steps 1 --static-max-dofs 1.1e4
 """
 from __future__ import annotations
 
@@ -90,6 +108,19 @@ def reset_peak_memory() -> None:
         pass
 
 
+def resident_memory(comm) -> float:
+    """Resident memory now (GB), summed over the ranks (VmRSS of /proc/self/status)."""
+    gb = 0.0
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmRSS:"):
+                    gb = float(line.split()[1]) / 1e6           # kB
+    except OSError:
+        pass
+    return comm.allreduce(gb, op=MPI.SUM)
+
+
 def peak_memory(comm) -> tuple[float, float]:
     """(sum over ranks, largest rank) of ru_maxrss (GB)."""
     gb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6   # kB on Linux
@@ -108,6 +139,7 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
     comm = MPI.COMM_WORLD
     kw = dict(dt=DT_DYNAMIC, rho_inf=0.3) if scheme != "static" else {}
     reset_peak_memory()
+    base = resident_memory(comm)
     comm.barrier()
     p = Elasticity(sm, "steel", degree=2, scheme=scheme, gravity=(0.0, 0.0, -9.81),
                    solver=solver, petsc_options=petsc, **kw)
@@ -133,7 +165,7 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
     out = dict(problem="static" if scheme == "static" else "dynamic", solver=p.solver_kind,
                dofs=p.n_dofs, setup_s=t_setup, first_s=times[0],
                step_s=float(np.mean(times[1:])), its_first=its[0],
-               its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak,
+               its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
                surface_vertices=s.n_vertices, umax=p.max_displacement())
     p._solver.destroy()
     return out
@@ -142,6 +174,7 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
 def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
     comm = MPI.COMM_WORLD
     reset_peak_memory()
+    base = resident_memory(comm)
     comm.barrier()
     h = Heat(sm, "steel", dt=DT_HEAT, theta=1.0, T_initial=20.0, degree=2, solver=solver,
              petsc_options=petsc)
@@ -168,7 +201,7 @@ def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
     its = h.iterations
     out = dict(problem="heat", solver=h.solver_kind, dofs=h.n_dofs, setup_s=t_setup,
                first_s=times[0], step_s=float(np.mean(times[1:])), its_first=its[0],
-               its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak,
+               its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
                surface_vertices=s.n_vertices, Tmax=h.min_max()[1])
     h._solver.destroy()
     return out
@@ -207,6 +240,8 @@ def main() -> None:
     ap.add_argument("--static-max-dofs", type=float, default=2e5,
                     help="skip the static problem above this size (iterative: 10^3 iterations)")
     ap.add_argument("--petsc", default="{}", help="JSON dict of PETSc options (iterative)")
+    ap.add_argument("--largest-first", action="store_true",
+                    help="run the sizes from the largest down (its figures come first)")
     ap.add_argument("--json", default=None, help="write every record to this JSON file")
     args = ap.parse_args()
     release_freed_memory()
@@ -216,6 +251,8 @@ def main() -> None:
     petsc = json.loads(args.petsc)
     load0 = load_average()
     targets = np.geomspace(args.min_dofs, args.max_dofs, args.sizes)
+    if args.largest_first:
+        targets = targets[::-1]
     # warm-up: FFCx compilation of every form, outside the timings
     sm, _, _ = build(3e3, n_thickness=args.n_thickness, components=3)
     for solver in solvers:
@@ -231,7 +268,8 @@ def main() -> None:
             print(f"{r['problem']:8s} {r['solver']:9s} dofs={r['dofs']:8d} h={r['h']:.4g} "
                   f"mesh={r['mesh_s']:.1f}s setup={r['setup_s']:.2f}s first={r['first_s']:.2f}s "
                   f"step={r['step_s']:.3f}s its={r['its_first']}/{r['its_step']:.0f} "
-                  f"peak={r['peak_gb']:.2f}GB (rank max {r['rank_gb']:.2f}) "
+                  f"peak={r['peak_gb']:.2f}GB (rank max {r['rank_gb']:.2f}, at start "
+                  f"{r['base_gb']:.2f}) "
                   f"surface_vertices={r['surface_vertices']} load={load_average():.1f}",
                   flush=True)
 
@@ -264,7 +302,8 @@ def main() -> None:
     main_solver = "iterative" if "iterative" in solvers else "direct"
 
     def pick(prob, solver):
-        rs = [r for r in records if r["problem"] == prob and r["solver"] == solver]
+        rs = sorted((r for r in records if r["problem"] == prob and r["solver"] == solver),
+                    key=lambda r: r["dofs"])
         return [r["dofs"] for r in rs], [r["step_s"] for r in rs], rs
 
     kv = [f"ranks={comm.size}", f"solver={main_solver}"]
