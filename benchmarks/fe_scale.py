@@ -37,16 +37,16 @@ Crossover (measured 2026-12-02 on the 2-core test machine while other jobs loade
 load average 4-6: the times are 2-3 times an idle machine's; ``solver = "auto"`` takes its
 threshold, :data:`gsi.fem.options.AUTO_ITERATIVE_DOFS`, from these figures):
 
-* elasticity, dynamic step: the direct solve is 50-100 times faster than the iterative
+* elasticity, dynamic step: the direct solve is 60-670 times faster than the iterative
   one at every size measured (1e4-1e5 dofs; 1e5 on 2 ranks: 1.4 s against 81 s, 505 CG
-  iterations), and even a single solve, factorization included, is cheaper up to ~2e5
-  dofs (1e5 on 2 ranks: 37 s against 102 s); the direct solver's memory is what stops it:
-  SuperLU_DIST on 2 ranks held 12.5 GB at 2.8e5 dofs (benchmarks/coupled_large.py), MUMPS
-  on one rank 2.8 GB at 2.1e5. The iterative solver's iterations fall as the mesh is
-  refined (the elements' in-plane size approaches the wall's 10 mm: 884 at 1e4, 505 at
-  1e5, 159 at 1e6 dofs), so its step time grows as dofs^0.67 on 2 ranks;
-* heat: CG + BoomerAMG needs 9-13 iterations at every size; per step it is 2-10 times
-  slower than the direct solve up to 1e5 dofs, its set-up 4-6 times faster.
+  iterations), and a single solve, factorization included, is cheaper too (1e5 on 2
+  ranks: 37 s against 102 s; the direct one at 2e5: 41.6 s, 4.9 GB); its memory is what
+  stops it: SuperLU_DIST on 2 ranks held 12.4 GB for the 2.8e5-dof membrane of
+  benchmarks/coupled_large.py (two P2 layers). The iterative solver's iterations fall as
+  the mesh is refined (the elements' in-plane size approaches the wall's 10 mm: 884 at 1e4,
+  505 at 1e5, 159 at 1e6 dofs), so its step time grows as dofs^0.67 on 2 ranks;
+* heat: CG + BoomerAMG needs 9-13 iterations at every size; per step it is 1-10 times
+  slower than the direct solve up to 1e5 dofs, its set-up 2-6 times faster.
 
 Run::
 

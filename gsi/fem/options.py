@@ -31,8 +31,13 @@ ITERATIVE_RTOL = 1e-12
 ITERATIVE_ATOL = 1e-16
 
 #: ``solver = "auto"`` takes the iterative solver from this many global dofs on.
-#: Measured on this project's 2-core test machine with benchmarks/fe_scale.py (P2 silo
-#: shell, one rank): see ``crossover`` in that script's docstring for the figures.
+#: Measured on the project's 2-core test machine (benchmarks/fe_scale.py, P2 silo shell,
+#: and benchmarks/coupled_large.py; the crossover in fe_scale.py's docstring): below it the
+#: direct solver is faster per time step by 60-670 times (elasticity; heat up to 10 times) and a
+#: single solve, factorization included, is cheaper too (2e5 dofs on 2 ranks: 41.6 s, 4.9
+#: GB); around it the direct solver's memory reaches the 8 GB a 2-rank run may use (a 2.8e5
+#: dof membrane with two P2 layers: 12.4 GB with SuperLU_DIST), which the iterative solver
+#: keeps to ~5 GB at 1e6 dofs.
 AUTO_ITERATIVE_DOFS = {"elasticity": 200_000, "heat": 200_000}
 
 #: gsi's PETSc defaults of the iterative solvers (``petsc_options`` override them)
