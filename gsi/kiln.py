@@ -25,8 +25,9 @@ The kiln (:func:`kiln_case`):
 Sizes (:func:`kiln_geometry`): the drums of :func:`gsi.drum.drum_geometry` (same fill and
 Froude number for N particles) with the turn rounded to a whole number of
 :data:`TURN_STEP` DEM steps, so that a quarter turn is a whole number of coupling
-intervals of :data:`N_SUB` steps (Fr changes by at most a few per cent: the regime is
-reported).
+intervals of :data:`N_SUB` steps.  The rounding moves Fr off the seed's 0.048: 0.047 for
+300 particles (R = 0.0466 m, 2 s per turn), 0.060 for 640 (R = 0.06 m, 2 s), 0.039 for
+2,000 (R = 0.0877 m, 3 s) -- all cascading (:attr:`KilnGeometry.regime`).
 """
 from __future__ import annotations
 
