@@ -33,6 +33,12 @@ motion extrapolation of Bednarek et al. (2019), Chem. Eng. Sci. 197, 223-234:
    the configuration at t1 (particle sigma^(n-1)(a) stands at x_a(t1)), relabelled
    (:meth:`Replay.positions`).
 
+5. A wall that is an FE heat structure (a heated kiln shell, :mod:`gsi.kiln`):
+   :class:`FEWallReplay` replays the period interval by interval, the FE stepping once
+   per coupling interval with the wall rows' heat as its nodal loads (the live
+   coupling's transfer), so the bed, the shell and the heat through the shell's
+   boundary balance to round-off.
+
 Error measures of the paper: :func:`cell_error` (its eq. 9, on Voronoi cells) and
 :func:`energy_transfer_error` (its eq. 10).
 """
@@ -46,7 +52,8 @@ import numpy as np
 from gsi.errors import GsiInputError
 from gsi.jit import njit
 
-__all__ = ["pair_particles", "pairing_cost", "Replay", "FEWallReplay", "voronoi_seeds", "cell_means",
+__all__ = ["pair_particles", "pairing_cost", "Replay", "FEWallReplay", "voronoi_seeds",
+           "cell_means",
            "cell_error", "energy_transfer_error", "period_errors", "compare_with_dem",
            "CaseExtrapolation", "DENSE_PAIRING_MAX"]
 
@@ -219,6 +226,10 @@ class Replay:
         What a row breaking the stability bound m < C/H does (module docstring).
     pairing : str
         ``method`` of :func:`pair_particles`.
+    fe_wall : int, optional
+        Index (in the log) of a wall that is an FE heat structure: its rows are kept with
+        b = -2 and their triangle for :class:`FEWallReplay` (plain :meth:`run` does not
+        know them).
 
     Attributes
     ----------

@@ -828,7 +828,8 @@ class Runner:
                 lines.append(
                     f"  kiln: mean bed temperature {e['bed_T_t1']:.2f} K at t1 -> "
                     f"{e['bed_T_end']:.2f} K after {e['extrap_hours']:.3g} h extrapolated "
-                    f"(shell mean {e['wall_T_end']:.2f} K); wall -> bed {e['wall_heat_flow_W']:.4g} W "
+                    f"(shell mean {e['wall_T_end']:.2f} K); wall -> bed "
+                    f"{e['wall_heat_flow_W']:.4g} W "
                     f"and heat in through the shell's boundary {e['boundary_heat_flow_W']:.4g} W "
                     f"on average; energy balance (bed + shell - boundary heat) "
                     f"{e['energy_balance_rel']:.2g} relative")
