@@ -135,3 +135,33 @@ def test_wall_contacts_turn_with_the_shell(kiln):
     lab_t2 = _rotate(c[m[tri]], axis, centre, omega * (log.t1 + log.period - 0.5))
     assert np.median(np.linalg.norm(lab_t2 - lab_t1, axis=1)) < 0.006
     assert rep.triangle_map(4) is None                   # a whole turn: the identity
+
+
+@pytest.mark.slow
+def test_kiln_2000_against_the_seeds_targets(tmp_path):
+    """2,000 particles (R = 0.0877 m, 3 s per turn, Fr = 0.039), a quarter turn logged, six
+    of full DEM + FE, half an hour extrapolated (~5 min here).  The seed's Table 5 on
+    cells of 400 particles (its count): eps_rel <= 3.1 % is met (measured 1.4-2.9 %),
+    eps_abs <= 0.25 K is not (0.29-0.56 K; 5 cells only); on 200 cells (10 particles)
+    1.9-4.3 K, on 80 (25) 1.4-2.7 K.  Eq. 10 <= 2.0 %, the means within 0.02 K; the bounds
+    below are regression bounds with the targets beside them."""
+    case = kiln_case(kiln_geometry(2000), settle=0.5, spin_up=0.25, period_turns=0.25,
+                     periods=2400, compare_periods=6)
+    runner = Runner(case, out=tmp_path, pictures=False, verbose=False)
+    res = runner.run()
+    s = res.summary
+    assert s["energy_balance_rel"] < 1e-12
+    assert s["energy_err_max"] < 0.05                    # the seed's eq. 10 target
+    csv = np.genfromtxt(tmp_path / "extrapolation.csv", delimiter=",", names=True)
+    live = ~np.isnan(csv["T_mean_dem"])
+    for a in ("T_mean", "T_hot", "T_cold", "T_wall_mean"):
+        assert np.abs(csv[f"{a}_extra"][live] - csv[f"{a}_dem"][live]).max() < 0.05, a
+    xp = runner.extrapolation
+    log = xp.log
+    hot = xp.hot[log.ids]
+    seeds = voronoi_seeds(log.x1, 5, seed=0)
+    e = np.array([cell_error(seeds, xp.dem_x[n], xp.dem_T[n], xp.res["x"][n], xp.res["T"][n],
+                             hot=hot)[:2] for n in range(1, 7)])
+    assert e[:, 1].max() < 0.031                        # the seed's eps_rel target
+    assert e[:, 0].max() < 0.8                          # target 0.25 K: not met
+    assert np.nanmax(csv["eps_abs"]) < 6.0              # 200 cells of 10 particles
