@@ -410,8 +410,9 @@ class FEWallReplay(Replay):
     2. the rows that start in the interval are replayed in log order; a wall row on
        triangle t moves Q = H m (T_w - T_p) into its particle, with T_w the triangle's
        mean node temperature, and puts -Q on the triangle's nodes with the weights of its
-       centroid (P1: 1/3 each; a P2 wall: the P2 basis of the parent face at the
-       sub-triangle's centroid, as the DEM's scatter) -- the contact point inside the
+       centroid (P1: 1/3 each; the wall of a P2 mechanical interface: the P2 basis of
+       the parent face at the sub-triangle's centroid, as the DEM's scatter -- a
+       thermal-only structure of a case has a P1 wall) -- the contact point inside the
        triangle is not logged, the centroid stands for it;
     3. the wall-node heat becomes the nodal heat loads of the interval through the live
        coupling's own transfer (``interface.vertex_heat``,

@@ -96,7 +96,7 @@ def kiln_geometry(particles: int) -> KilnGeometry:
 def kiln_case(geometry: KilnGeometry, *, settle: float = 0.5, spin_up: float = 0.25,
               period_turns: float = 0.25, periods: int = 100, compare_periods: int = 3,
               hours: float | None = None, every: int = 10, dt_split: float = 0.01,
-              h: float = 0.012, degree: int = 1, T_shell: float = T_SHELL,
+              h: float = 0.012, T_shell: float = T_SHELL,
               k_grain: float = K_GRAIN, seed: int = 3, name: str | None = None):
     """The kiln as a :class:`gsi.case.Case` (module docstring) with its
     ``[extrapolation]``: the halves set at ``settle`` (s; the kiln starts turning then),
@@ -109,9 +109,7 @@ def kiln_case(geometry: KilnGeometry, *, settle: float = 0.5, spin_up: float = 0
     ----------
     geometry : KilnGeometry
     h : float
-        FE element size (m).
-    degree : int
-        FE degree of the shell (1 or 2).
+        FE element size (m); the shell's heat is P1 (the case model's heat problem).
     T_shell : float
         Outer shell temperature and the shell's initial temperature (K).
     k_grain : float
@@ -147,7 +145,7 @@ def kiln_case(geometry: KilnGeometry, *, settle: float = 0.5, spin_up: float = 0
     shell = Structure(
         name="shell", mesh="drum",
         geometry=dict(radius=R, length=L, thickness=SHELL_THICKNESS, h=h),
-        material="steel", degree=degree, scheme="static",
+        material="steel", degree=1, scheme="static",
         contact=Contact(tags=["contact"], mode="thermal", wall_material="kiln_wall",
                         n_sub=N_SUB, motion=motion),
         thermal=StructureThermal(T_ref=T_COLD, T_initial=T_shell, theta=1.0,
