@@ -297,13 +297,12 @@ class Runner:
         # a schedule event at time t takes effect at the first step boundary at or after t
         # (the wall takes the motion state of the event itself, whatever the round-off)
         self.motion_events = {}
-        movers = [(w, lambda t, w=w: w.apply_motion(self._handles[w.name], t))
+        movers = [(w.motion, lambda t, w=w: w.apply_motion(self._handles[w.name], t))
                   for w in case.walls]
         movers += [(st.contact.motion, lambda t, st=st, b=b: st.apply_motion(b.wall, t))
                    for st, b in zip(case.structures, self.structures)
                    if st.contact.motion is not None]
-        for w, move in movers:
-            motion = w.motion if hasattr(w, "motion") else w
+        for motion, move in movers:
             for t in motion.event_times():
                 k = int(math.ceil(t / self.dt - 1e-9))
                 if 0 < k <= self.n_total:
