@@ -40,96 +40,104 @@ def make(state):
     return sim
 
 
-state, threads, steps = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-numba.set_num_threads(threads)
-sim = make(state)
-sim.step(200)
-E = sim.engine
-new = hasattr(sim, "pairs")
-nslab = (len(sim.pairs.slab_start) if new else len(sim._nb[0])) - 1
-g = sim.g
-lo, hi = sim.lo, sim.hi
+def main():
+    state, threads, steps = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+    numba.set_num_threads(threads)
+    sim = make(state)
+    sim.step(200)
+    E = sim.engine
+    new = hasattr(sim, "pairs")
+    nslab = (len(sim.pairs.slab_start) if new else len(sim._nb[0])) - 1
+    g = sim.g
+    lo, hi = sim.lo, sim.hi
 
-def cf(mode, planes=True, k=steps):
-    """time k calls of contact_forces (s per call)"""
-    if new:
-        P, pairs, pl, M, wc = sim._bundles()
-        if not planes:
-            from gsi.dem.state import empty_planes
-            pl = empty_planes()
-            wc = wc._replace(plane_hist=np.zeros((sim.n, 0, 3)))
-        acc = np.zeros((nslab, len(pl.point), 7)); so = np.zeros((nslab, 3))
-        call = lambda: E.contact_forces(mode, sim.dt, P, pairs, pl, M, wc, sim.table, acc,
-                                        g[0], g[1], g[2], lo, hi, 1e4, so)
-    else:
-        a = list(sim._args())
-        (x, v, w, f, tq, q, radius, mass, inertia, T, mcp_inv, ptype, fixed, ncontact, x0, table,
-         slab_start, slab_list, nb_start, nb_j, hist, pact,
-         pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask, pl_force, pl_torque, pl_imp, pl_heat,
-         mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
-         mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
-         wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
-         mv_imp, mv_heat, mw_imp_p, mw_heat_p, mt_p6, mt_lam) = a
-        if not planes:
-            pl_p, pl_n, pl_v = np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3))
-            pl_type, pl_T, pl_hasT = np.zeros(0, np.int32), np.zeros(0), np.zeros(0, np.uint8)
-            pl_hist = np.zeros((sim.n, 0, 3))
-        acc = np.zeros((nslab, len(pl_p), 7)); so = np.zeros((nslab, 3))
-        n = sim.n
-        call = lambda: E.contact_forces(n, sim.dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
-                   table, slab_start, slab_list, nb_start, nb_j, hist, pact,
-                   pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask,
-                   mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
-                   mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
-                   wc_f, wc_q, wc_pt, overflow, acc, mode, g[0], g[1], g[2], fixed,
-                   mcp_inv, x0, lo, hi, 1e4, so)
-    P = sim.particles if new else None
-    arrs = [sim.x, sim.v, sim.omega, sim.force, sim.torque]
-    saved = [a.copy() for a in arrs]
-    hs = (sim.pairs.hist if new else sim._nb[4])
-    hsave = hs.copy()
+    def cf(mode, planes=True, k=steps):
+        """time k calls of contact_forces (s per call)"""
+        if new:
+            P, pairs, pl, M, wc = sim._bundles()
+            if not planes:
+                from gsi.dem.state import empty_planes
+                pl = empty_planes()
+                wc = wc._replace(plane_hist=np.zeros((sim.n, 0, 3)))
+            acc = np.zeros((nslab, len(pl.point), 7)); so = np.zeros((nslab, 3))
+            call = lambda: E.contact_forces(mode, sim.dt, P, pairs, pl, M, wc, sim.table, acc,
+                                            g[0], g[1], g[2], lo, hi, 1e4, so)
+        else:
+            a = list(sim._args())
+            (x, v, w, f, tq, q, radius, mass, inertia, T, mcp_inv, ptype, fixed, ncontact, x0, table,
+             slab_start, slab_list, nb_start, nb_j, hist, pact,
+             pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask, pl_force, pl_torque, pl_imp, pl_heat,
+             mv_x, mv_v, mv_T, mv_x0, mv_wall, mt, mt_edge, mt_wall, mw_type, mw_hasT, mw_rigid,
+             mw_vel, mw_omega, mw_centre, mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind,
+             wc_fid, wc_k, wc_w, wc_f, wc_q, wc_pt, overflow, mw_force, mw_torque, mt_force,
+             mv_imp, mv_heat, mw_imp_p, mw_heat_p, mt_p6, mt_lam) = a
+            if not planes:
+                pl_p, pl_n, pl_v = np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3))
+                pl_type, pl_T, pl_hasT = np.zeros(0, np.int32), np.zeros(0), np.zeros(0, np.uint8)
+                pl_hist = np.zeros((sim.n, 0, 3))
+            acc = np.zeros((nslab, len(pl_p), 7)); so = np.zeros((nslab, 3))
+            n = sim.n
+            call = lambda: E.contact_forces(n, sim.dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
+                       table, slab_start, slab_list, nb_start, nb_j, hist, pact,
+                       pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask,
+                       mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
+                       mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
+                       wc_f, wc_q, wc_pt, overflow, acc, mode, g[0], g[1], g[2], fixed,
+                       mcp_inv, x0, lo, hi, 1e4, so)
+        P = sim.particles if new else None
+        arrs = [sim.x, sim.v, sim.omega, sim.force, sim.torque]
+        saved = [a.copy() for a in arrs]
+        hs = (sim.pairs.hist if new else sim._nb[4])
+        hsave = hs.copy()
 
-    def restore():
-        for a, b in zip(arrs, saved):
-            a[:] = b
-        hs[:] = hsave
-    call()
-    best = 1e9
-    best_r = 1e9
+        def restore():
+            for a, b in zip(arrs, saved):
+                a[:] = b
+            hs[:] = hsave
+        call()
+        best = 1e9
+        best_r = 1e9
+        for rep in range(7):
+            t0 = CLK()
+            for _ in range(k // 7):
+                restore()
+            best_r = min(best_r, (CLK() - t0) / (k // 7))
+            t0 = CLK()
+            for _ in range(k // 7):
+                restore()
+                call()
+            best = min(best, (CLK() - t0) / (k // 7))
+        restore()
+        return best - best_r
+
+
+    # whole step time: best of 7 chunks
+    rb = sim.n_rebuilds
+    t_step = 1e9
     for rep in range(7):
-        t0 = CLK()
-        for _ in range(k // 7):
-            restore()
-        best_r = min(best_r, (CLK() - t0) / (k // 7))
-        t0 = CLK()
-        for _ in range(k // 7):
-            restore()
-            call()
-        best = min(best, (CLK() - t0) / (k // 7))
-    restore()
-    return best - best_r
+        t0 = CLK(); sim.step(steps // 7); t_step = min(t_step, (CLK() - t0) / (steps // 7))
+    nrb = sim.n_rebuilds - rb
+    t0 = CLK(); sim._rebuild(); t_rb = CLK() - t0
+    t0 = CLK(); sim._rebuild(); t_rb = min(t_rb, CLK() - t0)
+    xsave = sim.x.copy(); vsave = sim.v.copy()
+    sim.step(1)
+    t_pairs = cf(0, planes=False)
+    t_force = cf(0)
+    t_fused = cf(2)
+    sim.x[:] = xsave; sim.v[:] = vsave
+    t_rebuild = t_rb * nrb / steps
+    rows = [("pair contacts", t_pairs), ("plane contacts", t_force - t_pairs),
+            ("integration (fused: kick, drift, clear, scan)", t_fused - t_force),
+            ("neighbour rebuild (amortized)", t_rebuild),
+            ("serial wall sums, wall motion, Python", t_step - t_fused - t_rebuild)]
+    print(f"# {sys.argv[4] if len(sys.argv) > 4 else ''} {'new' if new else 'old'} threads={threads} n={sim.n} step={t_step*1e3:.3f} ms "
+          f"rate={sim.n / t_step:.4g} rebuilds/step={nrb/steps:.4f} rebuild={t_rb*1e3:.1f} ms")
+    for name, t in rows:
+        print(f"| {name} | {t*1e3:.3f} ms | {100*t/t_step:.1f} % |")
+    keys = ("pairs", "planes", "integration", "rebuild", "rest")
+    print(f"threads={threads} step_ms={t_step * 1e3:.4g} "
+          + " ".join(f"{k}_share={t / t_step:.3f}" for k, (_, t) in zip(keys, rows)))
 
 
-# whole step time: best of 7 chunks
-rb = sim.n_rebuilds
-t_step = 1e9
-for rep in range(7):
-    t0 = CLK(); sim.step(steps // 7); t_step = min(t_step, (CLK() - t0) / (steps // 7))
-nrb = sim.n_rebuilds - rb
-t0 = CLK(); sim._rebuild(); t_rb = CLK() - t0
-t0 = CLK(); sim._rebuild(); t_rb = min(t_rb, CLK() - t0)
-xsave = sim.x.copy(); vsave = sim.v.copy()
-sim.step(1)
-t_pairs = cf(0, planes=False)
-t_force = cf(0)
-t_fused = cf(2)
-sim.x[:] = xsave; sim.v[:] = vsave
-t_rebuild = t_rb * nrb / steps
-rows = [("pair contacts", t_pairs), ("plane contacts", t_force - t_pairs),
-        ("integration (fused: kick, drift, clear, scan)", t_fused - t_force),
-        ("neighbour rebuild (amortized)", t_rebuild),
-        ("serial wall sums, wall motion, Python", t_step - t_fused - t_rebuild)]
-print(f"# {sys.argv[4] if len(sys.argv) > 4 else ''} {'new' if new else 'old'} threads={threads} n={sim.n} step={t_step*1e3:.3f} ms "
-      f"rate={sim.n / t_step:.4g} rebuilds/step={nrb/steps:.4f} rebuild={t_rb*1e3:.1f} ms")
-for name, t in rows:
-    print(f"| {name} | {t*1e3:.3f} ms | {100*t/t_step:.1f} % |")
+if __name__ == "__main__":
+    main()

@@ -33,11 +33,18 @@ motion extrapolation of Bednarek et al. (2019), Chem. Eng. Sci. 197, 223-234:
    the configuration at t1 (particle sigma^(n-1)(a) stands at x_a(t1)), relabelled
    (:meth:`Replay.positions`).
 
+5. A wall that is an FE heat structure (a heated kiln shell, :mod:`gsi.kiln`):
+   :class:`FEWallReplay` replays the period interval by interval, the FE stepping once
+   per coupling interval with the wall rows' heat as its nodal loads (the live
+   coupling's transfer), so the bed, the shell and the heat through the shell's
+   boundary balance to round-off.
+
 Error measures of the paper: :func:`cell_error` (its eq. 9, on Voronoi cells) and
 :func:`energy_transfer_error` (its eq. 10).
 """
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -45,7 +52,8 @@ import numpy as np
 from gsi.errors import GsiInputError
 from gsi.jit import njit
 
-__all__ = ["pair_particles", "pairing_cost", "Replay", "voronoi_seeds", "cell_means",
+__all__ = ["pair_particles", "pairing_cost", "Replay", "FEWallReplay", "voronoi_seeds",
+           "cell_means",
            "cell_error", "energy_transfer_error", "period_errors", "compare_with_dem",
            "CaseExtrapolation", "DENSE_PAIRING_MAX"]
 
@@ -218,6 +226,10 @@ class Replay:
         What a row breaking the stability bound m < C/H does (module docstring).
     pairing : str
         ``method`` of :func:`pair_particles`.
+    fe_wall : int, optional
+        Index (in the log) of a wall that is an FE heat structure: its rows are kept with
+        b = -2 and their triangle for :class:`FEWallReplay` (plain :meth:`run` does not
+        know them).
 
     Attributes
     ----------
@@ -231,7 +243,8 @@ class Replay:
     pairing_seconds, setup_seconds : float
     """
 
-    def __init__(self, log, *, sigma=None, on_unstable="substep", pairing="auto"):
+    def __init__(self, log, *, sigma=None, on_unstable="substep", pairing="auto",
+                 fe_wall=None):
         if on_unstable not in ("substep", "error"):
             raise GsiInputError(f"on_unstable = {on_unstable!r}: must be 'substep' or 'error'")
         self.log = log
@@ -248,18 +261,24 @@ class Replay:
         # particle-particle rows and the wall rows that exchange heat, in log order
         w_pp = (log.pp_dur * log.dt) * log.coef[typ[log.pp_i], typ[log.pp_j]] \
             * log.pp_size.astype(float)
-        keep = log.wall_has_T[log.pw_wall] if len(log.pw_wall) else np.zeros(0, bool)
+        fe = (log.pw_wall == fe_wall) if fe_wall is not None else np.zeros(len(log.pw_wall),
+                                                                            bool)
+        keep = (log.wall_has_T[log.pw_wall] | fe) if len(log.pw_wall) else np.zeros(0, bool)
         pw_i, pw_wall = log.pw_i[keep], log.pw_wall[keep]
         w_pw = (log.pw_dur[keep] * log.dt) * log.coef[typ[pw_i], log.wall_type[pw_wall]] \
             * log.pw_size[keep].astype(float)
         start = np.concatenate([log.pp_start, log.pw_start[keep]])
         m = np.concatenate([log.pp_dur, log.pw_dur[keep]]) * log.dt
         a = np.concatenate([log.pp_i, pw_i]).astype(np.int32)
-        b = np.concatenate([log.pp_j, np.full(len(pw_i), -1, np.int32)]).astype(np.int32)
+        b = np.concatenate([log.pp_j, np.where(fe[keep], -2, -1).astype(np.int32)]
+                           ).astype(np.int32)
         w = np.concatenate([w_pp, w_pw])
         Tw = np.concatenate([np.zeros(len(w_pp)), log.wall_T[pw_wall]])
+        tri = np.concatenate([np.full(len(w_pp), -1, np.int32),
+                              log.pw_tri[keep].astype(np.int32)])
         order = np.argsort(start, kind="stable")      # pp rows are already in log order
         a, b, w, Tw, m = a[order], b[order], w[order], Tw[order], m[order]
+        start, tri = start[order], tri[order]
         C_min = np.where(b >= 0, np.minimum(C[a], C[np.maximum(b, 0)]), C[a])
         ratio = w / C_min                              # m H/C: stable below 1
         self.max_stability_ratio = float(ratio.max()) if len(ratio) else 0.0
@@ -276,8 +295,10 @@ class Replay:
         if self.n_substepped:
             s = np.where(bad, np.floor(ratio) + 1, 1).astype(np.int64)
             a, b, Tw = np.repeat(a, s), np.repeat(b, s), np.repeat(Tw, s)
+            start, tri = np.repeat(start, s), np.repeat(tri, s)
             w = np.repeat(w / s, s)
         self._a, self._b, self._w, self._Tw = a, b, w, Tw
+        self._start, self._tri = start, tri
         self.n_rows = len(a)
         # load (or compile) the kernel now, so that run() times the replay alone
         _replay_rows(np.zeros(1), a[:0], b[:0], w[:0], Tw[:0], np.ones(1))
@@ -339,6 +360,253 @@ class Replay:
             role = role[self.sigma]
             out[p][role] = self.log.x1
         return out
+
+
+@njit
+def _replay_rows_fe(T, a, b, w, Tw, inv_C, tri, r0, r1, tn, tw, hn, hw, T_nodes, node_heat):
+    """Rows r0..r1 - 1 of :func:`_replay_rows`, and rows with b = -2 against an FE wall:
+    the particle exchanges H m (T_w - T) with the wall at T_w = sum_j tw[t, j]
+    T_nodes[tn[t, j]] (t = tri[r]), and that heat leaves the wall nodes hn[t, j] in the
+    shares hw[t, j] (``node_heat``, J into the wall)."""
+    for r in range(r0, r1):
+        ka = a[r]
+        kb = b[r]
+        if kb >= 0:
+            q = w[r] * (T[ka] - T[kb])
+            T[ka] -= q * inv_C[ka]
+            T[kb] += q * inv_C[kb]
+        elif kb == -1:
+            T[ka] += w[r] * (Tw[r] - T[ka]) * inv_C[ka]
+        else:
+            t = tri[r]
+            Tn = 0.0
+            for j in range(tn.shape[1]):
+                Tn += tw[t, j] * T_nodes[tn[t, j]]
+            q = w[r] * (Tn - T[ka])
+            T[ka] += q * inv_C[ka]
+            for j in range(hn.shape[1]):
+                node_heat[hn[t, j]] -= q * hw[t, j]
+
+
+def _rotate(x, axis, centre, angle):
+    """Points ``x`` (n, 3) turned by ``angle`` (rad) about ``axis`` (unit) through
+    ``centre`` (Rodrigues)."""
+    r = np.asarray(x, float) - centre
+    c, s = math.cos(angle), math.sin(angle)
+    return (centre + r * c + np.cross(axis, r) * s
+            + np.outer(r @ axis, axis) * (1.0 - c))
+
+
+class FEWallReplay(Replay):
+    """The replay of a kiln: Algorithm 3 with a wall that is an FE heat structure.
+
+    The rows of particle-particle contacts are those of :class:`Replay`.  The rows of the
+    structure's contact wall (logged with their wall triangle) exchange heat with the FE
+    wall as the live coupling (:mod:`gsi.coupling.thermal`) does, interval by interval:
+
+    1. the period is cut into the coupling intervals of the structure (dt_FE = n_sub dt);
+       at the start of interval k the wall takes the FE temperature T_k at its nodes
+       (``interface.wall_temperature``);
+    2. the rows that start in the interval are replayed in log order; a wall row on
+       triangle t moves Q = H m (T_w - T_p) into its particle, with T_w the triangle's
+       mean node temperature, and puts -Q on the triangle's nodes with the weights of its
+       centroid (P1: 1/3 each; the wall of a P2 mechanical interface: the P2 basis of
+       the parent face at the sub-triangle's centroid, as the DEM's scatter -- a
+       thermal-only structure of a case has a P1 wall) -- the contact point inside the
+       triangle is not logged, the centroid stands for it;
+    3. the wall-node heat becomes the nodal heat loads of the interval through the live
+       coupling's own transfer (``interface.vertex_heat``,
+       :func:`gsi.coupling.thermal.load_nodal_heat`) and the heat problem takes one step.
+
+    Each row conserves C_p T_p + (heat on the wall nodes); each FE step turns the nodal
+    loads and the boundary heat (flux, convection, fixed temperature: the
+    :class:`gsi.coupling.thermal.BoundaryMeter` of the step) into stored heat, so
+    sum m c_p T + int rho c T dx - (heat in through the boundary) is conserved to the
+    round-off of the FE solve (direct solver).
+
+    A turning wall (a rotary kiln's shell): its triangles are numbered in the body's frame
+    and the FE lives in it.  After p periods the drum has turned p omega tau further, so a
+    logged contact on triangle t at the lab position x now meets the body point under x,
+    R(-p omega tau) c_t: the replay uses the triangle whose centroid is nearest to it
+    (the identity when tau is a whole number of turns).
+
+    Parameters
+    ----------
+    log : gsi.dem.contact_log.ContactLog
+    structure : gsi.coupling.structure.CoupledStructure
+        The kiln wall (``heat`` and ``interface``; one MPI rank), in its state at t1.
+    fe_wall : int
+        The wall's index in the log (planes first, then mesh walls).
+    omega : (3,) float
+        Angular velocity of the wall during the log and after it (rad/s; zeros: fixed).
+    centre : (3,) float
+        A point of the rotation axis (m).
+    sigma, on_unstable, pairing
+        As :class:`Replay`.
+    """
+
+    def __init__(self, log, structure, *, fe_wall, omega=(0.0, 0.0, 0.0),
+                 centre=(0.0, 0.0, 0.0), sigma=None, on_unstable="substep", pairing="auto"):
+        from gsi.dem.wall_kernels import p2_weight
+        super().__init__(log, sigma=sigma, on_unstable=on_unstable, pairing=pairing,
+                         fe_wall=fe_wall)
+        self.structure = structure
+        heat, itf = structure.heat, structure.interface
+        if heat is None:
+            raise GsiInputError(f"structures.{structure.name}: the kiln replay needs its "
+                                "heat (contact.mode = 'thermal')")
+        if heat.comm.size > 1:
+            raise GsiInputError("extrapolation with a structure: run on one MPI rank")
+        self.n_sub = int(round(structure.dt / log.dt))
+        K = int(round(log.period / log.dt))
+        if K % self.n_sub:
+            raise GsiInputError(f"extrapolation.period = {log.period:g}: must be a whole "
+                                f"number of coupling intervals of structures."
+                                f"{structure.name} (n_sub x dt = {structure.dt:g} s)")
+        self.n_intervals = K // self.n_sub
+        self.bounds = np.searchsorted(self._start, np.arange(self.n_intervals + 1)
+                                      * self.n_sub).astype(np.int64)
+        self.bounds[-1] = self.n_rows
+        tri = itf.triangles
+        nt = len(tri)
+        self._tn = tri.astype(np.int64)
+        self._tw = np.full((nt, 3), 1.0 / 3.0)
+        if itf.n_midpoints == 0:
+            self._hn, self._hw = self._tn, self._tw
+        else:
+            lam = itf.parent_coords.mean(axis=1)          # centroid in the parent face
+            self._hn = itf.parent_nodes.astype(np.int64)
+            self._hw = np.array([[p2_weight(j, *lam[t]) for j in range(6)]
+                                 for t in range(nt)])
+        self._centroids = itf.x0[tri].mean(axis=1)
+        omega = np.asarray(omega, float)
+        w = float(np.linalg.norm(omega))
+        self.axis = omega / w if w > 0 else np.array([0.0, 0.0, 1.0])
+        self.centre = np.asarray(centre, float)
+        self.turn_per_period = w * log.period                  # rad
+        fe_rows = self._b == -2
+        self._fe_rows = fe_rows
+        self._fe_tri = self._tri[fe_rows]
+        self._maps = {}
+
+    def triangle_map(self, p):
+        """Triangles (wall numbering) the logged triangles stand for in period p."""
+        phi = math.remainder(p * self.turn_per_period, 2.0 * math.pi)
+        if abs(phi) < 1e-9:
+            return None
+        key = round(phi, 9)
+        if key not in self._maps:
+            from scipy.spatial import cKDTree
+            if not hasattr(self, "_tree"):
+                self._tree = cKDTree(self._centroids)
+            self._maps[key] = np.asarray(self._tree.query(
+                _rotate(self._centroids, self.axis, self.centre, -phi))[1], np.int32)
+        return self._maps[key]
+
+    def run(self, periods, *, T=None, store=(), hot=None, say=None):
+        """Extrapolate ``periods`` periods from t1, the FE wall stepping once per coupling
+        interval (it ends in its state at t1 + periods tau).
+
+        Parameters
+        ----------
+        periods : int
+        T : (N,) float, optional
+            Temperatures at t1 (log order), default ``log.T1``.
+        store : iterable of int
+            Periods n whose temperatures (and extrapolated positions) are returned.
+        hot : (N,) bool, optional
+            A group of particles (log order) whose mean temperature is recorded with the
+            rest's.
+
+        Returns
+        -------
+        dict
+            ``time`` (periods + 1,) s; per period (index 0: t1) ``T_mean`` (m c_p-weighted
+            bed mean, K), ``T_hot``, ``T_cold`` (with ``hot``), ``E_particles``,
+            ``E_structure`` (int rho c T dx), ``Q_boundary`` (cumulative heat in through
+            the structure's boundary since t1), ``Q_wall`` (heat from the wall into the
+            particles in the period, J), ``T_wall_mean`` (K); ``stored``: {n: (T (N,),
+            x (N, 3))}; ``balance``: max |drift| of E_particles + E_structure -
+            Q_boundary relative to E at t1; ``seconds`` (wall time), ``fe_seconds``
+            (its FE part).
+        """
+        from gsi.coupling.thermal import BoundaryMeter, load_nodal_heat
+        log, st = self.log, self.structure
+        heat, itf = st.heat, st.interface
+        n = log.n_particles
+        C = np.asarray(log.heat_capacity, float)
+        T_real = np.array(log.T1 if T is None else T, float)
+        if T_real.shape != (n,):
+            raise GsiInputError(f"T: must have {n} temperatures (log order)")
+        inv_C_real = 1.0 / C
+        store = set(int(p) for p in store)
+        vol = heat.volume()
+        rc = heat.material.rho * heat.material.c
+        keys = ("T_mean", "E_particles", "E_structure", "Q_boundary", "Q_wall",
+                "T_wall_mean") + (("T_hot", "T_cold") if hot is not None else ())
+        rec = {k: np.zeros(periods + 1) for k in keys}
+
+        def note(p, Q_b, Q_w):
+            E_s = heat.stored_heat()
+            rec["E_particles"][p] = float(C @ T_real)
+            rec["T_mean"][p] = rec["E_particles"][p] / C.sum()
+            rec["E_structure"][p] = E_s
+            rec["Q_boundary"][p] = Q_b
+            rec["Q_wall"][p] = Q_w
+            rec["T_wall_mean"][p] = E_s / (rc * vol)
+            if hot is not None:
+                rec["T_hot"][p] = T_real[hot].mean()
+                rec["T_cold"][p] = T_real[~hot].mean()
+
+        note(0, 0.0, 0.0)
+        stored = {}
+        if 0 in store:
+            stored[0] = (T_real.copy(), log.x1.copy())
+        node_heat = np.zeros(itf.n_nodes)
+        role = np.arange(n)
+        Q_b = 0.0
+        fe_s = 0.0
+        t = time.perf_counter()
+        for p in range(1, periods + 1):
+            role = role[self.sigma]
+            Tt = T_real[role]
+            inv_C = inv_C_real[role]
+            tri = self._tri
+            m = self.triangle_map(p)
+            if m is not None:
+                tri = tri.copy()
+                tri[self._fe_rows] = m[self._fe_tri]
+            Q_w = 0.0
+            for k in range(self.n_intervals):
+                t_fe = time.perf_counter()
+                T_nodes = itf.wall_temperature(itf.surface_temperature())
+                fe_s += time.perf_counter() - t_fe
+                node_heat[:] = 0.0
+                _replay_rows_fe(Tt, self._a, self._b, self._w, self._Tw, inv_C, tri,
+                                self.bounds[k], self.bounds[k + 1], self._tn, self._tw,
+                                self._hn, self._hw, T_nodes, node_heat)
+                t_fe = time.perf_counter()
+                Q_w -= float(node_heat.sum())
+                load_nodal_heat(heat, itf, itf.vertex_heat(node_heat) / heat.dt, root=0)
+                meter = BoundaryMeter(heat)
+                heat.step()
+                Q_b += meter.heat_in()
+                fe_s += time.perf_counter() - t_fe
+            T_real[role] = Tt
+            note(p, Q_b, Q_w)
+            if p in store:
+                x = np.empty_like(log.x1)
+                x[role] = log.x1
+                stored[p] = (T_real.copy(), x)
+            if say is not None and periods >= 10 and p % max(1, periods // 10) == 0:
+                say(f"extrapolation: period {p}/{periods}, bed {rec['T_mean'][p]:.2f} K")
+        heat.clear_nodal_heat()
+        seconds = time.perf_counter() - t
+        E = rec["E_particles"] + rec["E_structure"] - rec["Q_boundary"]
+        rec.update(time=log.t1 + log.period * np.arange(periods + 1), stored=stored,
+                   balance=float(np.abs(E - E[0]).max() / abs(E[0])), seconds=seconds,
+                   fe_seconds=fe_s)
+        return rec
 
 
 def voronoi_seeds(x, count=200, *, seed=0):
@@ -515,18 +783,22 @@ class CaseExtrapolation:
         DEM step (s).
     out : pathlib.Path
         Output directory (``contact_log.npz``, ``extrapolation.csv``, pictures).
+    structure : gsi.coupling.structure.CoupledStructure, optional
+        The kiln wall (a thermal-only structure): the replay is :class:`FEWallReplay`, the
+        structure's heat returns to its state at t1 after it (the live run goes on).
     """
 
-    def __init__(self, spec, *, dt, out):
+    def __init__(self, spec, *, dt, out, structure=None):
         self.spec = spec
         self.out = out
+        self.structure = structure
+        self.n_cmp = spec.n_compare
         self.K = int(round(spec.period / dt))
         self.k_halves = None if spec.halves is None else int(round(spec.halves.t / dt))
         self.k0 = int(round(spec.start / dt))
         self.k1 = self.k0 + self.K
         self.steps = ([] if self.k_halves is None else [self.k_halves]) + [self.k0, self.k1]
-        if spec.compare:
-            self.steps += [self.k1 + p * self.K for p in range(1, spec.periods + 1)]
+        self.steps += [self.k1 + p * self.K for p in range(1, self.n_cmp + 1)]
         self.hot = None
         self.log = None
         self.res = None
@@ -554,8 +826,11 @@ class CaseExtrapolation:
             t = time.perf_counter()
             self.times["collision_file_s"] = t - self.times.pop("log_start")
             self.times["file_bytes"] = self.log.save(self.out / "contact_log.npz")
-            rep = Replay(self.log)
-            self.res = rep.run(s.periods, positions=True)
+            if self.structure is None:
+                rep = Replay(self.log)
+                self.res = rep.run(s.periods, positions=True)
+            else:
+                rep, self.res = self._replay_kiln(sim, say)
             self.times.update(pairing_s=rep.pairing_seconds, replay_setup_s=rep.setup_seconds,
                               extrap_s_per_period=self.res["seconds"] / s.periods,
                               rows=rep.n_rows)
@@ -564,47 +839,95 @@ class CaseExtrapolation:
                 f"extrapolated in {self.res['seconds']:.3g} s")
             self.times["dem_start"] = time.perf_counter()
         if s.compare and k >= self.k1 and (k - self.k1) % self.K == 0 and \
-                len(self.dem_T) <= s.periods and self.log is not None:
+                len(self.dem_T) <= self.n_cmp and self.log is not None:
             rows = sim.index(self.log.ids)
             self.dem_T.append(sim.T[rows].copy())
             self.dem_x.append(sim.x[rows].copy())
-            if len(self.dem_T) == s.periods + 1:
+            if self.structure is not None:
+                self.dem_wall.append(self.structure.heat.stored_heat())
+            if len(self.dem_T) == self.n_cmp + 1:
                 self.times["dem_s_per_period"] = \
-                    (time.perf_counter() - self.times.pop("dem_start")) / s.periods
+                    (time.perf_counter() - self.times.pop("dem_start")) / self.n_cmp
+
+    def _replay_kiln(self, sim, say):
+        """The replay with the FE wall (:class:`FEWallReplay`) from t1; the structure's
+        heat is put back to its state at t1 afterwards.  Returns (replay, result) with
+        ``T``, ``x`` of the periods 0..n_cmp (and the last) in the form of
+        :meth:`Replay.run`."""
+        st, s = self.structure, self.spec
+        w = st.wall._w
+        M = sim.mesh_state
+        saved = st.heat.state()
+        rep = FEWallReplay(self.log, st, fe_wall=sim._npl + w, omega=M.wall_omega[w].copy(),
+                           centre=M.wall_centre[w].copy())
+        hot = None if self.hot is None else self.hot[self.log.ids]
+        keep = sorted(set(range(self.n_cmp + 1)) | {s.periods})
+        res = rep.run(s.periods, store=keep, hot=hot, say=say)
+        st.heat.set_state(saved)
+        res["stored_periods"] = keep
+        res["T"] = np.array([res["stored"][p][0] for p in keep])
+        res["x"] = np.array([res["stored"][p][1] for p in keep])
+        self.dem_wall = []
+        say(f"kiln replay: {s.periods} periods ({s.periods * self.log.period / 3600:.3g} h) "
+            f"in {res['seconds']:.3g} s ({res['fe_seconds']:.3g} s FE), energy balance "
+            f"{res['balance']:.2g} relative")
+        return rep, res
 
     def finish(self, name="case"):
         """Write ``extrapolation.csv`` and the pictures; return the summary numbers."""
         s, log, res = self.spec, self.log, self.res
         if log is None:
             return {}
-        n = s.periods
+        n, c = s.periods, self.n_cmp
+        kiln = self.structure is not None
         hot = None if self.hot is None else self.hot[log.ids]
-        full = s.compare and len(self.dem_T) == n + 1
+        full = c > 0 and len(self.dem_T) == c + 1
         err = {}
         if full:
             seeds = voronoi_seeds(log.x1, min(s.cells, log.n_particles), seed=0)
-            err = period_errors(log, res, np.array(self.dem_T), np.array(self.dem_x), seeds,
-                                hot)
+            window = {"T": res["T"][:c + 1], "x": res["x"][:c + 1]}
+            err = period_errors(log, window, np.array(self.dem_T), np.array(self.dem_x),
+                                seeds, hot)
             self._seeds = seeds
+        C = log.heat_capacity
+
+        def pad(v):
+            out = np.full(n + 1, np.nan)
+            out[:len(v)] = v
+            return out
+
         cols = {"time_s": res["time"]}
         if hot is not None:
-            cols["T_hot_extra"] = res["T"][:, hot].mean(1)
-            cols["T_cold_extra"] = res["T"][:, ~hot].mean(1)
+            if kiln:
+                cols["T_hot_extra"], cols["T_cold_extra"] = res["T_hot"], res["T_cold"]
+            else:
+                cols["T_hot_extra"] = res["T"][:, hot].mean(1)
+                cols["T_cold_extra"] = res["T"][:, ~hot].mean(1)
             if full:
                 D = np.array(self.dem_T)
-                cols["T_hot_dem"] = D[:, hot].mean(1)
-                cols["T_cold_dem"] = D[:, ~hot].mean(1)
-        cols["T_mean_extra"] = res["T"] @ log.heat_capacity / log.heat_capacity.sum()
+                cols["T_hot_dem"] = pad(D[:, hot].mean(1))
+                cols["T_cold_dem"] = pad(D[:, ~hot].mean(1))
+        cols["T_mean_extra"] = res["T_mean"] if kiln else res["T"] @ C / C.sum()
         if full:
-            cols["T_mean_dem"] = np.array(self.dem_T) @ log.heat_capacity \
-                / log.heat_capacity.sum()
+            cols["T_mean_dem"] = pad(np.array(self.dem_T) @ C / C.sum())
             for key in ("eps_abs", "eps_rel", "energy_error"):
-                cols[key] = np.concatenate([[np.nan], err[key]])
-            cols["energy_drift"] = err["energy_drift"]
+                cols[key] = pad(np.concatenate([[np.nan], err[key]]))
+            cols["energy_drift"] = pad(err["energy_drift"])
+        if kiln:
+            st = self.structure
+            m = st.heat.material
+            cols["T_wall_mean_extra"] = res["T_wall_mean"]
+            if full:
+                cols["T_wall_mean_dem"] = pad(np.array(self.dem_wall)
+                                              / (m.rho * m.c * st.heat.volume()))
+            cols["E_particles_extra"] = res["E_particles"]
+            cols["E_structure_extra"] = res["E_structure"]
+            cols["Q_boundary_extra"] = res["Q_boundary"]
+            cols["Q_wall_extra"] = res["Q_wall"]
         with open(self.out / "extrapolation.csv", "w") as f:
             f.write(",".join(cols) + "\n")
             for r in range(n + 1):
-                f.write(",".join(f"{cols[c][r]:.17g}" for c in cols) + "\n")
+                f.write(",".join(f"{cols[k][r]:.17g}" for k in cols) + "\n")
         summary = {"extrap_collisions": log.n_collisions,
                    "extrap_bytes_per_collision": round(log.bytes_per_collision(), 2),
                    "extrap_s_per_period": self.times["extrap_s_per_period"],
@@ -619,7 +942,21 @@ class CaseExtrapolation:
                            eps_rel_max=float(np.nanmax(err["eps_rel"])),
                            energy_err_max=float(np.abs(err["energy_error"]).max()),
                            energy_drift_max=float(err["energy_drift"].max()))
+        if kiln:
+            hours = n * log.period / 3600.0
+            summary.update(
+                extrap_hours=hours, bed_T_t1=float(res["T_mean"][0]),
+                bed_T_end=float(res["T_mean"][-1]),
+                wall_T_end=float(res["T_wall_mean"][-1]),
+                wall_heat_flow_W=float(res["Q_wall"][1:].sum() / (n * log.period)),
+                boundary_heat_flow_W=float(res["Q_boundary"][-1] / (n * log.period)),
+                energy_balance_rel=res["balance"])
+            if full:
+                dT = np.array(self.dem_wall) / (m.rho * m.c * st.heat.volume()) \
+                    - res["T_wall_mean"][:c + 1]
+                summary["wall_T_err_max"] = float(np.abs(dT).max())
         self.cols = cols
+        self.err = err
         self.files = [self.out / "extrapolation.csv", self.out / "contact_log.npz"]
         return summary
 
@@ -634,12 +971,13 @@ class CaseExtrapolation:
         log, res, cols = self.log, self.res, self.cols
         if log is None:
             return []
-        full = len(self.dem_T) == self.spec.periods + 1
+        full = self.n_cmp > 0 and len(self.dem_T) == self.n_cmp + 1
         x0, T0 = self.t0_state
         drop = "xyz".index(view[1]) if view[0] in "+-" else int(np.argmin(np.ptp(log.x1, 0)))
         u, v = [d for d in range(3) if d != drop]
         files = []
-        last = self.spec.periods
+        last = self.n_cmp if full else len(res["x"]) - 1
+        label = res.get("stored_periods", range(len(res["x"])))[last] + 1
         lo = min(T0.min(), log.T1.min())
         hi = max(T0.max(), log.T1.max())
         panels = [("full DEM, t0", x0, T0), ("full DEM, t1", log.x1, log.T1)]
@@ -647,7 +985,7 @@ class CaseExtrapolation:
             panels.append((f"full DEM, t{last + 1}", self.dem_x[last], self.dem_T[last]))
         panels += [("extrapolated, t0 (= DEM)", x0, T0), ("extrapolated, t1 (= DEM)", log.x1,
                                                           log.T1),
-                   (f"extrapolated, t{last + 1}", res["x"][last], res["T"][last])]
+                   (f"extrapolated, t{label}", res["x"][last], res["T"][last])]
         ncol = 3
         fig, axes = plt.subplots(2 if full else 1, ncol, figsize=(4 * ncol, 3.8 * (2 if full
                                                                                    else 1)),
@@ -671,8 +1009,9 @@ class CaseExtrapolation:
         if "T_hot_extra" in cols:
             fig, ax = plt.subplots(figsize=(6, 4))
             t = cols["time_s"]
-            ax.plot(t, cols["T_hot_extra"], "o--", color="tab:red", label="hot, extrapolated")
-            ax.plot(t, cols["T_cold_extra"], "o--", color="tab:blue", label="cold, extrapolated")
+            mk = "o--" if len(t) <= 60 else "--"
+            ax.plot(t, cols["T_hot_extra"], mk, color="tab:red", label="hot, extrapolated")
+            ax.plot(t, cols["T_cold_extra"], mk, color="tab:blue", label="cold, extrapolated")
             if "T_hot_dem" in cols:
                 ax.plot(t, cols["T_hot_dem"], "-", color="tab:red", label="hot, full DEM")
                 ax.plot(t, cols["T_cold_dem"], "-", color="tab:blue", label="cold, full DEM")
@@ -704,4 +1043,61 @@ class CaseExtrapolation:
             fig.savefig(self.out / "extrapolation_cells.png", dpi=90)
             plt.close(fig)
             files.append(self.out / "extrapolation_cells.png")
+        if self.structure is not None:
+            files.append(self.hours_picture(name))
         return files
+
+    def hours_picture(self, name="case"):
+        """``extrapolation_hours.png``: the bed's (m c_p-weighted) mean temperature --
+        left in the live DEM + FE window (the coupling records, from the moment the
+        halves are set, with the extrapolated t_n in it), right against hours of physical
+        time on a log axis, the live run beside the extrapolated hours, with the shell's
+        mean and the initially hot and cold halves; returns the file."""
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        cols, log = self.cols, self.log
+        recs = self.structure.thermal.records
+        t_live = np.array([r.t for r in recs])
+        bed_live = np.array([r.T_particles_mean for r in recs])
+        wall_live = np.array([r.T_wall_mean for r in recs])
+        t_set = self.spec.halves.t if self.spec.halves is not None else 0.0
+        after = t_live > t_set + 1e-9
+        t = cols["time_s"]
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4),
+                                     gridspec_kw=dict(width_ratios=[1, 1.6]))
+        a1.plot(t_live[after], bed_live[after], "-", color="tab:orange",
+                label="bed, DEM + FE")
+        win = t <= t_live[-1] + 1e-9
+        a1.plot(t[win], cols["T_mean_extra"][win], "o", mfc="none", color="tab:orange",
+                label="bed, extrapolated")
+        a1.axvspan(log.t0, log.t1, color="tab:green", alpha=0.15, label="logged period")
+        a1.set_xlabel("time (s)")
+        a1.set_ylabel("bed mean temperature (K)")
+        a1.set_title(f"live run window (shell mean {wall_live[-1]:.2f} K)", fontsize=9)
+        a1.grid(alpha=0.3)
+        a1.legend(fontsize=7)
+        h = t / 3600.0
+        a2.axvspan(t_live[after][0] / 3600.0, t_live[-1] / 3600.0, color="tab:green",
+                   alpha=0.15, label="live DEM + FE window")
+        a2.plot(t_live[after] / 3600.0, bed_live[after], "-", lw=3, color="tab:orange",
+                alpha=0.6, label="bed, DEM + FE")
+        a2.plot(h, cols["T_mean_extra"], "--", color="tab:orange", label="bed, extrapolated")
+        a2.plot(h, cols["T_wall_mean_extra"], "-", color="0.3", label="shell, extrapolated")
+        if "T_hot_extra" in cols:
+            a2.plot(h, cols["T_hot_extra"], ":", color="tab:red", lw=1,
+                    label="initially hot half")
+            a2.plot(h, cols["T_cold_extra"], ":", color="tab:blue", lw=1,
+                    label="initially cold half")
+        a2.set_xscale("log")
+        a2.set_xlabel("physical time (h)")
+        a2.set_ylabel("mean temperature (K)")
+        a2.set_title(f"{name}: {len(t) - 1} periods of {log.period:.4g} s extrapolated "
+                     f"({h[-1]:.3g} h)", fontsize=9)
+        a2.grid(alpha=0.3, which="both")
+        a2.legend(fontsize=7)
+        fig.tight_layout()
+        path = self.out / "extrapolation_hours.png"
+        fig.savefig(path, dpi=90)
+        plt.close(fig)
+        return path

@@ -258,6 +258,8 @@ class Runner:
                              base_dir=case.base_dir, heat_scale=case.run.heat_time_scale,
                              root=self.root)
             built.attach(self.sim)
+            if self.is_root:
+                st.apply_motion(built.wall, 0.0)
             self.structures.append(built)
         from gsi.case.thermal_contacts import build_contact_groups
         self.contact_groups = build_contact_groups(
@@ -285,15 +287,26 @@ class Runner:
                     "resume: a case with [extrapolation] cannot resume (its contact log is "
                     "not in the checkpoints); run it again"))
             from gsi.extrapolation import CaseExtrapolation
-            self.extrapolation = CaseExtrapolation(case.extrapolation, dt=self.dt, out=self.out)
+            if self.structures and self.comm.size > 1:
+                raise _agreed(GsiInputError(
+                    "extrapolation with [[structures]]: the kiln replay runs on one MPI rank; "
+                    "run without mpirun"))
+            self.extrapolation = CaseExtrapolation(
+                case.extrapolation, dt=self.dt, out=self.out,
+                structure=self.structures[0] if self.structures else None)
         # a schedule event at time t takes effect at the first step boundary at or after t
         # (the wall takes the motion state of the event itself, whatever the round-off)
         self.motion_events = {}
-        for w in case.walls:
-            for t in w.motion.event_times():
+        movers = [(w.motion, lambda t, w=w: w.apply_motion(self._handles[w.name], t))
+                  for w in case.walls]
+        movers += [(st.contact.motion, lambda t, st=st, b=b: st.apply_motion(b.wall, t))
+                   for st, b in zip(case.structures, self.structures)
+                   if st.contact.motion is not None]
+        for motion, move in movers:
+            for t in motion.event_times():
                 k = int(math.ceil(t / self.dt - 1e-9))
                 if 0 < k <= self.n_total:
-                    self.motion_events.setdefault(k, []).append((w, t))
+                    self.motion_events.setdefault(k, []).append((move, t))
 
     def _agree(self, exc):
         """Broadcast an error raised on the DEM rank so that every rank stops (one message)."""
@@ -526,9 +539,9 @@ class Runner:
                 k = nxt
                 t = k * self.dt
                 self._finish_structures(k)
-                for w, t_event in self.motion_events.get(k, []):
+                for move, t_event in self.motion_events.get(k, []):
                     if self.is_root:
-                        w.apply_motion(self._handles[w.name], t_event)
+                        move(t_event)
                 if self.extrapolation is not None and self.is_root:
                     self.extrapolation.at_step(k, self.sim, say=self.say)
                 for m in case.monitors:
@@ -809,6 +822,16 @@ class Runner:
             lines.append("  extrapolation: " + ", ".join(
                 f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in extrap.items()))
             keys.update(extrap)
+            if "extrap_hours" in extrap:
+                e = extrap
+                lines.append(
+                    f"  kiln: mean bed temperature {e['bed_T_t1']:.2f} K at t1 -> "
+                    f"{e['bed_T_end']:.2f} K after {e['extrap_hours']:.3g} h extrapolated "
+                    f"(shell mean {e['wall_T_end']:.2f} K); wall -> bed "
+                    f"{e['wall_heat_flow_W']:.4g} W "
+                    f"and heat in through the shell's boundary {e['boundary_heat_flow_W']:.4g} W "
+                    f"on average; energy balance (bed + shell - boundary heat) "
+                    f"{e['energy_balance_rel']:.2g} relative")
         text = "\n".join(lines)
         last = " ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
                         for k, v in keys.items())

@@ -293,7 +293,7 @@ class Case:
         self._check_radiation(dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
-                                     structures=len(self.structures))
+                                     structures=self.structures)
         n_steps = self.run.duration / dt
         if n_steps > 1e10:
             raise GsiInputError(f"run.duration = {self.run.duration}: {n_steps:.2g} DEM steps "
@@ -329,7 +329,7 @@ class Case:
         self._check_radiation(dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
-                                     structures=len(self.structures))
+                                     structures=self.structures)
         if self.output.interval < dt:
             raise GsiInputError(f"output.interval = {self.output.interval}: shorter than the "
                                 f"DEM step {dt:.3g} s")

@@ -22,8 +22,17 @@ replays, and writes ``extrapolation.csv`` (per t_n: mean temperatures of the two
 and of all particles (heat-capacity weighted), extrapolated and, with ``compare``, full
 DEM; eqs. 9 and 10; the drift of sum m c_p T of the replay) and the pictures
 ``extrapolation_fields.png``, ``extrapolation_means.png``, ``extrapolation_cells.png``.  ``run.duration`` must reach t1 (with ``compare``,
-t1 + periods tau).  Not with structures, and not resumable from a checkpoint (the log
-is not checkpointed).
+t1 + compare_periods tau).  Not resumable from a checkpoint (the log is not
+checkpointed).
+
+A heated kiln wall: with one ``[[structures]]`` of ``contact.mode = "thermal"`` (its
+contact wall may turn, ``contact.motion``) the replay exchanges the wall contacts' heat
+with the FE heat problem, which steps once per coupling interval
+(:class:`gsi.extrapolation.FEWallReplay`); t0 and tau must then be whole numbers of
+its intervals (``contact.n_sub`` x ``run.dt``), the run is on one MPI rank, and
+``compare_periods`` (< ``periods``) keeps the full DEM + FE reference to a short window
+while the replay runs on for hours (``extrapolation_hours.png``: the bed and wall
+temperature against hours, the live window beside the extrapolated hours).
 """
 from __future__ import annotations
 
@@ -58,26 +67,53 @@ class Extrapolation:
     dt_split: Optional[float] = param(0.01, unit="s", check=positive(),
                                       doc="Delta t_c^max: longer contacts make several rows")
     compare: bool = param(True, doc="run the DEM on over the periods as the reference")
+    compare_periods: Optional[int] = param(None, check=positive(),
+                                           doc="periods of that reference (default: periods)")
     cells: int = param(200, check=positive(), doc="Voronoi cells of the eq. 9 error")
     halves: Optional[Halves] = param(None, doc="temperatures set on two sides of a plane")
 
     def validate(self, path: str) -> None:
+        if self.compare_periods is not None and self.compare_periods > self.periods:
+            raise GsiInputError(f"{path}.compare_periods = {self.compare_periods}: more than "
+                                f"periods = {self.periods}; compare at most the periods "
+                                "extrapolated")
         if self.halves is not None and self.halves.t > self.start:
             raise GsiInputError(f"{path}.halves.t = {self.halves.t}: after extrapolation.start "
                                 f"= {self.start} (s); set the temperatures before t0")
 
-    def end(self) -> float:
-        """Simulated time (s) the run must reach: t1, or t1 + periods tau to compare."""
-        return self.start + self.period * (1 + (self.periods if self.compare else 0))
+    @property
+    def n_compare(self) -> int:
+        """Periods of full DEM reference after t1 (0 without ``compare``)."""
+        if not self.compare:
+            return 0
+        return self.periods if self.compare_periods is None else self.compare_periods
 
-    def check(self, *, dt: float, duration: float, heat: str, structures: int) -> None:
-        """What can be known before a run (one-line GsiInputError naming the key)."""
+    def end(self) -> float:
+        """Simulated time (s) the run must reach: t1, or t1 + compare_periods tau to
+        compare."""
+        return self.start + self.period * (1 + self.n_compare)
+
+    def check(self, *, dt: float, duration: float, heat: str, structures=()) -> None:
+        """What can be known before a run (one-line GsiInputError naming the key);
+        ``structures``: the case's :class:`gsi.case.structure.Structure` tables."""
         if heat not in ("area", "radius", "constant"):
             raise GsiInputError(f"dem.heat = {heat!r}: the extrapolation replays the contacts "
                                 f"of 'area', 'radius' or 'constant' conduction; set one")
+        if len(structures) > 1:
+            raise GsiInputError(f"extrapolation: {len(structures)} [[structures]]; the replay "
+                                "exchanges heat with one FE wall (a kiln shell); keep one")
         if structures:
-            raise GsiInputError("extrapolation: not with [[structures]] (the replay "
-                                "exchanges no heat with an FE wall); remove one of them")
+            st = structures[0]
+            if st.contact.mode != "thermal":
+                raise GsiInputError(f"structures[0].contact.mode = {st.contact.mode!r}: the "
+                                    "extrapolation replays heat only; set mode = 'thermal'")
+            step = st.contact.n_sub * dt
+            for key, value in (("start", self.start), ("period", self.period)):
+                k = round(value / step)
+                if k < 1 or abs(k * step - value) > 1e-9 * value:
+                    raise GsiInputError(f"extrapolation.{key} = {value}: must be a whole "
+                                        f"number of coupling intervals (structures[0].contact"
+                                        f".n_sub x run.dt = {step:g} s)")
         if self.period < 10 * self.every * dt:
             raise GsiInputError(f"extrapolation.period = {self.period}: shorter than 10 "
                                 f"samples of every x dt = {self.every * dt:g} s")
@@ -88,6 +124,7 @@ class Extrapolation:
                 raise GsiInputError(f"extrapolation.dt_split = {self.dt_split}: must be a "
                                     f"multiple of every x run.dt = {per:g} s")
         if duration < self.end() - 1e-9 * self.end():
-            what = "t1 + periods x period" if self.compare else "t1 = start + period"
+            what = ("t1 = start + period" if not self.compare else "t1 + periods x period"
+                    if self.compare_periods is None else "t1 + compare_periods x period")
             raise GsiInputError(f"run.duration = {duration}: shorter than {what} = "
                                 f"{self.end():.6g} s of [extrapolation]; lengthen the run")

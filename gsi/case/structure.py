@@ -56,6 +56,7 @@ from typing import Any, Optional
 import numpy as np
 
 from gsi.config.schema import between, nonnegative, one_of, param, positive
+from gsi.case.walls import Motion
 from gsi.errors import GsiInputError
 from gsi.fem.options import AUTO_ITERATIVE_DOFS, SOLVERS, petsc_option_strings
 
@@ -199,6 +200,9 @@ class Contact:
     relaxation: float = param(1.0, unit="-", check=between(0.0, 1.0, open_lo=True),
                               doc="under-relaxation of the quasi-static (static scheme) update; "
                                   "a soft structure under stiff particles needs ~0.01-0.1")
+    motion: Optional[Motion] = param(None, doc="rotation of a thermal-only contact wall (a "
+                                     "rotary kiln's shell): a [[walls]] motion of kind rotation "
+                                     "or schedule with axis and centre; the FE is the body's frame")
 
 
 @dataclass(kw_only=True)
@@ -307,6 +311,17 @@ class Structure:
             if self.contact.n_sub is None:
                 raise GsiInputError(f"{key}.contact.n_sub: missing; a thermal-only structure "
                                     "has no vibration period to choose it from")
+        mo = self.contact.motion
+        if mo is not None:
+            if self.contact.mode != "thermal":
+                raise GsiInputError(f"{key}.contact.motion: only with contact.mode = 'thermal' "
+                                    "(the mechanical coupling moves the wall with the FE)")
+            mo.validate(f"{key}.contact.motion", has_axis=False)
+            if mo.kind not in ("rotation", "schedule") or (mo.kind == "schedule" and any(
+                    any(e.velocity) for e in mo.events)):
+                raise GsiInputError(f"{key}.contact.motion.kind = {mo.kind!r}: the wall of an "
+                                    "FE structure may only turn about its axis (rotation, or a "
+                                    "schedule of rotations without velocity)")
         self.material_spec()
 
     @property
@@ -394,6 +409,17 @@ class Structure:
             self.dem_wall_material(materials)
 
     # ------------------------------------------------------------------ DEM wall
+    def apply_motion(self, wall, t: float) -> None:
+        """Set the rotation of the DEM ``wall`` (the contact wall, rank ``root``) to the
+        state of ``contact.motion`` at time ``t`` (s); nothing without a motion.  The wall's
+        triangles turn with it; the FE problem lives in the body's own frame (a rigid
+        rotation carries the shell's temperature field along)."""
+        mo = self.contact.motion
+        if mo is None or wall is None:
+            return
+        _, omega, c = mo.state_at(t)
+        wall.set_motion(omega=omega, centre=c)
+
     def wall_material_name(self) -> str:
         """Name of the wall's DEM material: ``contact.wall_material`` or ``<name>_wall``."""
         return self.contact.wall_material or f"{self.name}_wall"

@@ -87,7 +87,8 @@ from mpi4py import MPI
 from gsi.coupling.records import RecordLog
 from gsi.errors import GsiInputError
 
-__all__ = ["ThermalCoupling", "CouplingStep", "scale_heat_capacity", "particle_heat_capacity"]
+__all__ = ["ThermalCoupling", "CouplingStep", "scale_heat_capacity", "particle_heat_capacity",
+           "load_nodal_heat", "BoundaryMeter"]
 
 
 def scale_heat_capacity(materials: dict, s: float) -> dict:
@@ -274,9 +275,6 @@ class ThermalCoupling(RecordLog):
         m = self.heat.material
         return self.heat.stored_heat() - m.rho * m.c * self.T_ref * self.heat.volume()
 
-    def _boundary_inflow(self, tags) -> float:
-        return sum(self.heat.heat_flow(n) for n in tags)
-
     # ------------------------------------------------------------------ stepping
     def begin(self) -> None:
         """Start a coupling interval (collective): the wall takes the FE temperature T_k,
@@ -336,15 +334,9 @@ class ThermalCoupling(RecordLog):
         if info["n_dem"] != self.n_sub:
             raise RuntimeError(f"ThermalCoupling.finish: the DEM advanced {info['n_dem']} steps "
                                f"since begin(), the coupling interval is n_sub = {self.n_sub}")
-        heat.clear_nodal_heat()
-        itf.add_nodal_heat(W if W is not None else np.zeros(itf.n_vertices), root=root)
-        flux_tags = heat.exchange_tags()
-        fixed = set(heat.fixed_tags)
-        theta_tags = [n for n in flux_tags if n not in fixed]
-        dir_tags = [n for n in flux_tags if n in fixed]
-        inflow_old = self._boundary_inflow(theta_tags) if theta_tags else 0.0
-        self._pending = dict(info=info, theta_tags=theta_tags, dir_tags=dir_tags,
-                             inflow_old=inflow_old, n_steps=heat.n_steps)
+        load_nodal_heat(heat, itf, W if W is not None else np.zeros(itf.n_vertices),
+                        root=root)
+        self._pending = dict(info=info, meter=BoundaryMeter(heat), n_steps=heat.n_steps)
 
     def record(self) -> CouplingStep:
         """Last part of :meth:`finish`, after the heat step (collective): the energy record
@@ -353,14 +345,10 @@ class ThermalCoupling(RecordLog):
         heat, el, itf = self.heat, self.elasticity, self.interface
         if pending is None or heat.n_steps != pending["n_steps"] + 1:
             raise RuntimeError("ThermalCoupling.record: needs load_heat() and one heat step")
-        info, theta_tags, dir_tags = pending["info"], pending["theta_tags"], pending["dir_tags"]
+        info = pending["info"]
         Q_structure = heat.nodal_heat() * self.dt
         Q_contact = self.comm.allreduce(float(heat.contact_heat.sum()), op=MPI.SUM) * self.dt
-        inflow_new = self._boundary_inflow(theta_tags) if theta_tags else 0.0
-        inflow = heat.theta * inflow_new + (1.0 - heat.theta) * pending["inflow_old"]
-        inflow += self._boundary_inflow(dir_tags) if dir_tags else 0.0
-        inflow += sum(heat.radiation_heat_flow(n) for n in heat.radiation)
-        Q_loss = -inflow * self.dt
+        Q_loss = -pending["meter"].heat_in()
         vm = disp = math.nan
         if el is not None:
             disp = el.max_displacement()
@@ -446,6 +434,41 @@ class ThermalCoupling(RecordLog):
                           if is_open else None)
         if self.is_root and dem_step0 >= 0:
             self._dem_step0 = dem_step0
+
+
+def load_nodal_heat(heat, interface, heat_flow, *, root: int | None = 0) -> None:
+    """The heat loads of one coupling interval (collective): the structure's nodal heat
+    loads become ``heat_flow`` (n_vertices,) (W, into the structure) at the contact-surface
+    vertices (map wall-node heat with ``interface.vertex_heat`` first), held over the next
+    heat step.  The live coupling and the long-time replay with an FE wall
+    (:class:`gsi.extrapolation.FEWallReplay`) both load the FE through it."""
+    heat.clear_nodal_heat()
+    interface.add_nodal_heat(heat_flow, root=root)
+
+
+class BoundaryMeter:
+    """Heat entering a heat problem through its boundary over its next step (J), as the
+    theta-scheme applies it: convection and flux tags theta-weighted between the start and
+    the end of the step, the Dirichlet residual flow on fixed-temperature tags, and the
+    radiation of radiating tags (explicit, at T_n).  Make it before the step (collective),
+    call :meth:`heat_in` after it."""
+
+    def __init__(self, heat):
+        self.heat = heat
+        flux_tags = heat.exchange_tags()
+        fixed = set(heat.fixed_tags)
+        self.theta_tags = [n for n in flux_tags if n not in fixed]
+        self.dir_tags = [n for n in flux_tags if n in fixed]
+        self.inflow_old = sum(heat.heat_flow(n) for n in self.theta_tags)
+
+    def heat_in(self) -> float:
+        """Heat into the body over the step just taken (J) (collective)."""
+        heat = self.heat
+        inflow = (heat.theta * sum(heat.heat_flow(n) for n in self.theta_tags)
+                  + (1.0 - heat.theta) * self.inflow_old)
+        inflow += sum(heat.heat_flow(n) for n in self.dir_tags)
+        inflow += sum(heat.radiation_heat_flow(n) for n in heat.radiation)
+        return inflow * heat.dt
 
 
 def _radiation_totals(sim, wall):

@@ -617,8 +617,11 @@ class Simulation:
         # slabs along the axis where the particles spread over most cells
         spread = [np.ptp(np.floor((x[:, d] - self.lo[d]) * inv_cs[d])) if n else 0 for d in range(3)]
         axis = int(np.argmax(spread))
-        threads = 1 if n < self.parallel_min_n else numba.get_num_threads()
-        s_lo, s_inv_w, nslab = nbr.slab_layout(x[:, axis], 2 * rmax + self.skin, threads)
+        small = n < self.parallel_min_n
+        threads = 1 if small else numba.get_num_threads()
+        s_lo, s_inv_w, nslab = nbr.slab_layout(
+            x[:, axis], 2 * rmax + self.skin, threads,
+            min_per_slab=nbr.MIN_SLAB_PARTICLES if small else 1)
         slab_of, slab_start, slab_list = nbr.slab_sort(n, x, cell_list, axis, s_lo, s_inv_w,
                                                        nslab)
         if self.sort_particles and n:

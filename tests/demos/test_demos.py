@@ -25,7 +25,7 @@ def _module(name):
 
 
 @pytest.mark.parametrize("name", ["pour", "hopper_membrane", "thermal_silo",
-                                  "drum_extrapolation"])
+                                  "drum_extrapolation", "kiln"])
 def test_literate_demo_and_its_toml_twin_are_the_same_case(name):
     mod = _module(name)
     assert mod.result is None                 # importing runs nothing
@@ -116,3 +116,26 @@ def test_two_coupled_structures(tmp_path):
     dis = res.monitors["discharged"]
     assert dis["mass_kg"][-1] + dis["lost"][-1] * W / 9.81 / 300 > 0.95 * W / 9.81
     assert -res.monitors["membrane"]["load_z_N"][-1] > 0.5 * W
+
+
+def test_kiln_quick(tmp_path):
+    """The heated kiln (demos/kiln.py --quick): the bed heats toward the shell's 393.15 K
+    over the extrapolated half hour, the books of bed, shell and jacket balance to
+    round-off, and the live run's ParaView files and the hours picture are written."""
+    res = demo_main(_module("kiln").case, argv=["--quick", "--out", str(tmp_path)])
+    s = res.summary
+    assert res.n_particles == 300 and res.n_lost == 0
+    assert s["extrap_hours"] == pytest.approx(0.5)
+    assert s["energy_balance_rel"] < 1e-12
+    # heating toward the jacket temperature, not past it; the half hour is ~2.5 time
+    # constants of the bed (it gains ~80 K of the ~90 K between it and the shell)
+    assert s["bed_T_t1"] < 310.0 < 370.0 < s["bed_T_end"] < 393.15
+    assert 393.15 - 1.0 < s["wall_T_end"] < 393.15
+    # the jacket supplies what the bed takes (the shell's own heat content barely moves)
+    assert s["wall_heat_flow_W"] == pytest.approx(s["boundary_heat_flow_W"], rel=0.02)
+    assert s["eps_rel_max"] < 0.6 and s["energy_err_max"] < 0.05
+    csv = np.genfromtxt(tmp_path / "extrapolation.csv", delimiter=",", names=True)
+    assert len(csv) == 3601 and (~np.isnan(csv["T_mean_dem"])).sum() == 4
+    assert (tmp_path / "shell.xdmf").stat().st_size > 0
+    assert (tmp_path / "particles" / "particles.pvd").stat().st_size > 0
+    assert (tmp_path / "extrapolation_hours.png").stat().st_size > 0

@@ -59,3 +59,63 @@ def test_demo_toml_reads():
     t = tomllib.loads((ROOT / "demos" / "drum_extrapolation.toml").read_text())
     case = case_from_table(t)
     assert case.extrapolation.every == 10 and case.extrapolation.halves.below == 30.0
+
+
+def kiln_table(**over):
+    from gsi.kiln import kiln_case, kiln_geometry
+    t = case_to_table(kiln_case(kiln_geometry(300), periods=20, compare_periods=3))
+    for key, value in over.items():
+        path = key.split("__")
+        d = t
+        for p in path[:-1]:
+            d = d[int(p)] if p.isdigit() else d[p]
+        d[path[-1]] = value
+    return t
+
+
+def test_kiln_case_passes_the_checks():
+    case = case_from_table(kiln_table())
+    assert case.check() == 1e-4
+    assert case.extrapolation.n_compare == 3
+    assert case.extrapolation.end() == pytest.approx(case.run.duration)
+    assert case.structures[0].contact.motion.rotates
+
+
+@pytest.mark.parametrize("over,message", [
+    ({"extrapolation__compare_periods": 30},
+     r"extrapolation.compare_periods = 30: more than periods = 20"),
+    ({"extrapolation__compare_periods": 0}, r"extrapolation.compare_periods = 0: must be > 0"),
+    ({"run__duration": 2.0}, r"run.duration = 2.0: shorter than t1 \+ compare_periods x "),
+    ({"extrapolation__period": 0.6}, r"extrapolation.period = 0.6: must be a whole number "
+                                     r"of coupling intervals"),
+    ({"extrapolation__start": 1.1}, r"extrapolation.start = 1.1: must be a whole number "),
+    ({"structures__0__contact__mode": "both"},
+     r"structures\[0\].contact.motion: only with contact.mode = 'thermal'"),
+    ({"structures__0__contact__motion": {"kind": "translation", "velocity": [0.1, 0, 0]}},
+     r"structures\[0\].contact.motion.kind = 'translation': the wall of an FE structure "
+     r"may only turn"),
+    ({"structures__0__contact__motion": {"kind": "rotation", "rpm": 30.0}},
+     r"structures\[0\].contact.motion.axis: missing"),
+])
+def test_bad_kiln_input(over, message):
+    with pytest.raises(GsiInputError, match=message):
+        case_from_table(kiln_table(**over)).check()
+
+
+def test_extrapolation_refuses_a_mechanical_structure():
+    t = kiln_table()
+    t["structures"][0]["contact"].pop("motion")
+    t["structures"][0]["contact"]["mode"] = "both"
+    with pytest.raises(GsiInputError, match=r"structures\[0\].contact.mode = 'both': the "
+                                            r"extrapolation replays heat only"):
+        case_from_table(t).check()
+    t["structures"].append(dict(t["structures"][0], name="other"))
+    with pytest.raises(GsiInputError, match=r"extrapolation: 2 \[\[structures\]\]"):
+        case_from_table(t).check()
+
+
+def test_kiln_demo_toml_reads():
+    t = tomllib.loads((ROOT / "demos" / "kiln.toml").read_text())
+    case = case_from_table(t)
+    assert case.check() == 1e-4
+    assert case.quick_variant().extrapolation.periods == 3600

@@ -103,6 +103,11 @@ def test_slab_layout_is_wide_enough_and_splits_evenly_over_threads():
         s = np.floor((coord - lo) * inv_w)
         assert s.min() == 0 and s.max() == nslab - 1
     assert slab_layout(np.array([0.01]), 2.4e-3, 2)[2] == 1
+    # a serial run of a small system: one slab per MIN_SLAB_PARTICLES particles at most
+    # (a slab task's fixed cost), still a multiple of two
+    assert slab_layout(coord[:1000], 2.4e-3, 1, min_per_slab=256)[2] == 2
+    assert slab_layout(coord[:300], 2.4e-3, 1, min_per_slab=256)[2] == 1
+    assert slab_layout(coord, 2.4e-3, 1, min_per_slab=256)[2] == 18
 
 
 def test_pairs_are_stored_in_the_lower_of_two_adjacent_slabs():
