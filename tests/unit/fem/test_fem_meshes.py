@@ -7,6 +7,8 @@ import pytest
 import meshes
 from gsi.errors import GsiInputError
 from gsi.fem import compat
+from gsi.fem.elasticity import Elasticity
+from meshes import shell
 
 
 def _area(sm, name):
@@ -101,3 +103,22 @@ def test_bad_parameters_raise_one_line_errors(name, params, key):
 
 def test_registry_lists_the_builders():
     assert {"membrane", "hopper", "silo", "drum"} <= set(meshes.BUILDERS)
+
+
+def test_shell_tags_areas_layers_and_size_estimate():
+    R, H, t, hc, r0, h = 0.5, 1.0, 0.01, 0.4, 0.1, 0.12
+    sm = meshes.build("shell", radius=R, height=H, thickness=t, hopper_height=hc,
+                      outlet_radius=r0, h=h, n_thickness=2)
+    assert {"contact", "support", "outer", "top", "volume"} <= set(sm.tags)
+    cone = math.pi * (R + r0) * math.hypot(R - r0, hc)
+    assert _area(sm, "contact") == pytest.approx(2 * math.pi * R * H + cone, rel=2e-2)
+    # structured wall, revolved: on the cylinder every vertex lies on r = R, R + t/2 or R + t
+    x = compat.geometry_x(sm.mesh)
+    r = np.hypot(x[:, 0], x[:, 1])[x[:, 2] > 0.05]
+    assert np.unique(np.round(r, 9)) == pytest.approx([R, R + t / 2, R + t], abs=1e-9)
+    p = Elasticity(sm, "steel", degree=2)
+    est = shell.estimate_dofs(radius=R, height=H, hopper_height=hc, outlet_radius=r0, h=h,
+                              n_thickness=2)
+    assert p.n_dofs == pytest.approx(est, rel=0.02)
+    assert shell.estimate_dofs(h=shell.h_for_dofs(1e5, n_thickness=1), n_thickness=1) \
+        == pytest.approx(1e5, rel=0.02)
