@@ -34,7 +34,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from gsi.drum import DT, PARTICLE_RADIUS, G, drum_geometry, froude, regime
+from gsi.drum import DT, PARTICLE_RADIUS, G, DrumGeometry, drum_geometry
 from gsi.errors import GsiInputError
 
 __all__ = ["KilnGeometry", "kiln_geometry", "kiln_case", "T_HOT", "T_COLD", "T_SHELL",
@@ -57,31 +57,11 @@ SHELL_THICKNESS = 0.005
 
 
 @dataclasses.dataclass(frozen=True)
-class KilnGeometry:
-    """A kiln of the family (module docstring): ``particles``, inner ``radius`` and
-    ``length`` (m), ``steps_per_turn`` (DEM steps of :data:`gsi.drum.DT`)."""
-
-    particles: int
-    radius: float
-    length: float
-    steps_per_turn: int
-
-    @property
-    def period(self) -> float:
-        """Time of one turn (s)."""
-        return self.steps_per_turn * DT
-
-    @property
-    def rpm(self) -> float:
-        return 60.0 / self.period
-
-    @property
-    def froude(self) -> float:
-        return froude(self.radius, self.period)
-
-    @property
-    def regime(self) -> str:
-        return regime(self.froude)
+class KilnGeometry(DrumGeometry):
+    """A kiln of the family (module docstring): the fields and properties of
+    :class:`gsi.drum.DrumGeometry` (``particles``, inner ``radius`` and ``length`` in m,
+    ``steps_per_turn`` of :data:`gsi.drum.DT`, ``period``, ``rpm``, ``froude``,
+    ``regime``), here with the axis along x."""
 
 
 def kiln_geometry(particles: int) -> KilnGeometry:
