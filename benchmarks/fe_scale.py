@@ -146,20 +146,11 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
     p.clamp("support")
     s = ContactSurface(elasticity=p)
     advance = p.solve if scheme == "static" else p.step
-    comm.barrier()
-    t0 = time.perf_counter()
-    p._setup()
-    comm.barrier()
-    t_setup = time.perf_counter() - t0
-    times = []
-    for k in range(n_steps + 1):
+    def load(k):
         p.clear_nodal_loads()
         s.add_nodal_loads(_surface_loads(s, k) if comm.rank == 0 else None)
-        comm.barrier()
-        t0 = time.perf_counter()
-        advance()
-        comm.barrier()
-        times.append(time.perf_counter() - t0)
+
+    t_setup, times = _timed(comm, p._setup, load, advance, n_steps)
     peak, rank_peak = peak_memory(comm)
     its = p.iterations
     out = dict(problem="static" if scheme == "static" else "dynamic", solver=p.solver_kind,
@@ -169,6 +160,25 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
                surface_vertices=s.n_vertices, umax=p.max_displacement())
     p._solver.destroy()
     return out
+
+
+def _timed(comm, setup, load, advance, n_steps):
+    """(set-up seconds, seconds of each of the n_steps + 1 steps): ``setup()`` once, then
+    ``load(k)`` and a timed ``advance()`` per step, every rank in step (barriers)."""
+    comm.barrier()
+    t0 = time.perf_counter()
+    setup()
+    comm.barrier()
+    t_setup = time.perf_counter() - t0
+    times = []
+    for k in range(n_steps + 1):
+        load(k)
+        comm.barrier()
+        t0 = time.perf_counter()
+        advance()
+        comm.barrier()
+        times.append(time.perf_counter() - t0)
+    return t_setup, times
 
 
 def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
@@ -181,22 +191,11 @@ def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
     h.fix_temperature("support", 20.0)
     h.set_convection("outer", 10.0, 20.0)
     s = ContactSurface(heat=h)
-    comm.barrier()
-    t0 = time.perf_counter()
-    h._setup()
-    comm.barrier()
-    t_setup = time.perf_counter() - t0
-    times = []
-    for k in range(n_steps + 1):
+    def load(k):
         h.clear_nodal_heat()
-        if comm.rank == 0:
-            q = np.full(s.n_vertices, 1.0 + 0.1 * k)
-        s.add_nodal_heat(q if comm.rank == 0 else None)
-        comm.barrier()
-        t0 = time.perf_counter()
-        h.step()
-        comm.barrier()
-        times.append(time.perf_counter() - t0)
+        s.add_nodal_heat(np.full(s.n_vertices, 1.0 + 0.1 * k) if comm.rank == 0 else None)
+
+    t_setup, times = _timed(comm, h._setup, load, h.step, n_steps)
     peak, rank_peak = peak_memory(comm)
     its = h.iterations
     out = dict(problem="heat", solver=h.solver_kind, dofs=h.n_dofs, setup_s=t_setup,

@@ -197,20 +197,25 @@ def pairing_cost(x0, x1, sigma) -> float:
     return float(np.linalg.norm(np.asarray(x0) - np.asarray(x1)[sigma], axis=1).sum())
 
 
+@njit(inline="always")
+def _particle_row(T, ka, kb, wr, Twr, inv_C):
+    """One row of the replay: eqs. 7-8 between particles ka and kb (kb >= 0), or particle
+    ka against a fixed-temperature wall at ``Twr`` (kb < 0)."""
+    if kb >= 0:
+        q = wr * (T[ka] - T[kb])
+        T[ka] -= q * inv_C[ka]
+        T[kb] += q * inv_C[kb]
+    else:
+        T[ka] += wr * (Twr - T[ka]) * inv_C[ka]
+
+
 @njit
 def _replay_rows(T, a, b, w, Tw, inv_C):
     """Apply the rows in order to T (the particles' temperatures in the log's frame:
     T[a] belongs to the particle playing logged particle a): eqs. 7-8 for b >= 0, a
     fixed-temperature wall ``Tw`` for b < 0."""
     for r in range(a.shape[0]):
-        ka = a[r]
-        kb = b[r]
-        if kb >= 0:
-            q = w[r] * (T[ka] - T[kb])
-            T[ka] -= q * inv_C[ka]
-            T[kb] += q * inv_C[kb]
-        else:
-            T[ka] += w[r] * (Tw[r] - T[ka]) * inv_C[ka]
+        _particle_row(T, a[r], b[r], w[r], Tw[r], inv_C)
 
 
 class Replay:
@@ -370,13 +375,8 @@ def _replay_rows_fe(T, a, b, w, Tw, inv_C, tri, r0, r1, tn, tw, hn, hw, T_nodes,
     shares hw[t, j] (``node_heat``, J into the wall)."""
     for r in range(r0, r1):
         ka = a[r]
-        kb = b[r]
-        if kb >= 0:
-            q = w[r] * (T[ka] - T[kb])
-            T[ka] -= q * inv_C[ka]
-            T[kb] += q * inv_C[kb]
-        elif kb == -1:
-            T[ka] += w[r] * (Tw[r] - T[ka]) * inv_C[ka]
+        if b[r] >= -1:
+            _particle_row(T, ka, b[r], w[r], Tw[r], inv_C)
         else:
             t = tri[r]
             Tn = 0.0
