@@ -239,6 +239,9 @@ def main() -> None:
     ap.add_argument("--static-max-dofs", type=float, default=2e5,
                     help="skip the static problem above this size (iterative: 10^3 iterations)")
     ap.add_argument("--petsc", default="{}", help="JSON dict of PETSc options (iterative)")
+    ap.add_argument("--petsc-direct", default="{}",
+                    help='JSON dict of PETSc options (direct), e.g. \'{"pc_type": "cholesky", '
+                         '"pc_factor_mat_solver_type": "mumps"}\'')
     ap.add_argument("--largest-first", action="store_true",
                     help="run the sizes from the largest down (its figures come first)")
     ap.add_argument("--json", default=None, help="write every record to this JSON file")
@@ -248,6 +251,7 @@ def main() -> None:
     problems = [p for p in args.problems.split(",") if p]
     solvers = ["direct", "iterative"] if args.solver == "both" else [args.solver]
     petsc = json.loads(args.petsc)
+    petsc_direct = json.loads(args.petsc_direct)
     load0 = load_average()
     targets = np.geomspace(args.min_dofs, args.max_dofs, args.sizes)
     if args.largest_first:
@@ -278,7 +282,7 @@ def main() -> None:
             for solver in solvers:
                 if solver == "direct" and target > args.direct_max_dofs:
                     continue
-                opts = petsc if solver == "iterative" else {}
+                opts = petsc if solver == "iterative" else petsc_direct
                 for prob, scheme in (("static", "static"), ("dynamic", "generalized_alpha")):
                     if prob == "static" and target > args.static_max_dofs:
                         continue
@@ -291,7 +295,7 @@ def main() -> None:
             for solver in solvers:
                 if solver == "direct" and target > args.direct_max_dofs:
                     continue
-                r = run_heat(sm, solver, args.steps, petsc if solver == "iterative" else {})
+                r = run_heat(sm, solver, args.steps, petsc if solver == "iterative" else petsc_direct)
                 report(dict(r, h=h, mesh_s=t_mesh, ranks=comm.size))
             del sm
     if comm.rank != 0:

@@ -58,7 +58,7 @@ import numpy as np
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.case.walls import Motion
 from gsi.errors import GsiInputError
-from gsi.fem.options import AUTO_ITERATIVE_DOFS, SOLVERS, petsc_option_strings
+from gsi.fem.options import AUTO_LARGE_DOFS, SOLVERS, petsc_option_strings
 
 __all__ = ["Structure", "Load", "Convection", "FixedTemperature", "Flux", "Radiation",
            "StructureThermal",
@@ -246,9 +246,10 @@ class Structure:
     self_weight: bool = param(False, doc="load the structure with its own weight (gravity)")
     solver: str = param("auto", check=one_of(*SOLVERS),
                         doc="linear solver: direct (MUMPS; SuperLU_DIST on several ranks; "
-                            "factorized once), iterative (CG + algebraic multigrid, built "
-                            "once) or auto (iterative from "
-                            f"{AUTO_ITERATIVE_DOFS['elasticity']} dofs)")
+                            "factorized once), out_of_core (MUMPS Cholesky, the factor on "
+                            "disk), iterative (CG + algebraic multigrid, built once) or auto "
+                            f"(from {AUTO_LARGE_DOFS['elasticity']} dofs out of core for "
+                            "elasticity, iterative for heat)")
     petsc: dict[str, Any] = param(default_factory=dict,
                                   doc="PETSc options of the elasticity solver without the '-', "
                                       "e.g. {ksp_rtol = 1e-12} (heat: thermal.petsc)")

@@ -14,13 +14,17 @@ scheme), so the expensive part of a solver is built once and re-used every step:
 
 * ``direct``: MUMPS LU (or Cholesky) on one rank, SuperLU_DIST LU on several (for
   bit-reproducible runs, see :class:`FactorOnceSolver`), factorized once;
+* ``out_of_core``: MUMPS Cholesky on any number of ranks, factorized once with the factor
+  written to disk (:class:`OutOfCoreSolver`): the direct solve of structures whose factor
+  does not fit in memory;
 * ``iterative``: conjugate gradients preconditioned by algebraic multigrid, the hierarchy
   built once (:class:`IterativeSolver`): PETSc's GAMG with the six rigid-body modes as its
   near-nullspace for elasticity (smoothed aggregation, Vanek, Mandel & Brezina 1996),
   hypre's BoomerAMG for heat (GAMG where PETSc has no hypre). Every solve starts from the
   last solution x_0 (warm start) and stops at ||b - A x|| <= 1e-12 ||b - A x_0||
   (:data:`gsi.fem.options.ITERATIVE_RTOL`);
-* ``auto``: iterative from :data:`AUTO_ITERATIVE_DOFS` global dofs on, else direct.
+* ``auto``: from :data:`AUTO_LARGE_DOFS` global dofs on :data:`AUTO_LARGE_SOLVER`
+  (elasticity out of core, heat iterative), else direct.
 
 ``petsc_options`` (TOML ``[structures.petsc]``) are PETSc options without the leading
 dash, e.g. ``{"ksp_rtol": 1e-12, "pc_gamg_threshold": 0.02}``; they are set under an
@@ -31,6 +35,8 @@ one-line GsiInputError naming the key.
 from __future__ import annotations
 
 import itertools
+import os
+import tempfile
 import time
 
 import numpy as np
@@ -40,8 +46,9 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError, GsiRunError
 
 from . import compat
-from .options import (AUTO_ITERATIVE_DOFS, ITERATIVE_ATOL, ITERATIVE_DEFAULTS,  # noqa: F401
-                      ITERATIVE_RTOL, SOLVERS, choose_solver, petsc_option_strings)
+from .options import (AUTO_LARGE_DOFS, ITERATIVE_ATOL, ITERATIVE_DEFAULTS,  # noqa: F401
+                      ITERATIVE_RTOL, OUT_OF_CORE_DEFAULTS, SOLVERS, choose_solver,
+                      petsc_option_strings)
 
 
 class VertexDofMap:
@@ -189,7 +196,7 @@ class LinearSolver:
     Attributes
     ----------
     kind : str
-        "direct" or "iterative".
+        "direct", "out_of_core" or "iterative".
     prefix : str
         PETSc options prefix of this solver (unique in the process).
     n_factorizations : int
@@ -376,6 +383,41 @@ class FactorOnceSolver(LinearSolver):
             pc.setFactorSolverType("superlu_dist")
 
 
+class OutOfCoreSolver(LinearSolver):
+    """Direct solver with its factor on disk: MUMPS Cholesky, factorized once.
+
+    For structures whose factor does not fit in memory (a 1e6-dof P2 shell on 2 ranks:
+    see benchmarks/fe_scale.py): MUMPS's out-of-core mode (Amestoy et al., MUMPS users'
+    guide, ICNTL(22) = 1) writes the factor to files while it factorizes and reads it back
+    at every solve, so memory holds the matrix and the active fronts only. The files go to
+    ``$MUMPS_OOC_TMPDIR``, set here to the system's temporary directory (``$TMPDIR``,
+    else /tmp) when unset, and are removed with the solver. Unlike the in-memory direct
+    solver on several ranks (SuperLU_DIST), MUMPS's distributed factorization is not
+    bit-reproducible from run to run (see :class:`FactorOnceSolver`): the fields agree to
+    round-off. ``petsc_options`` override the defaults
+    (:data:`gsi.fem.options.OUT_OF_CORE_DEFAULTS`).
+    """
+
+    kind = "out_of_core"
+
+    def __init__(self, A: PETSc.Mat, comm: MPI.Comm, *, problem: str = "elasticity",
+                 petsc_options=None, options_key: str = "structure.petsc"):
+        super().__init__(A, comm, problem=problem, petsc_options=petsc_options,
+                         options_key=options_key)
+        if not os.environ.get("MUMPS_OOC_TMPDIR"):
+            os.environ["MUMPS_OOC_TMPDIR"] = tempfile.gettempdir()
+        self._configure_scratch(self.ksp)
+        self.ksp.getPC().setReusePreconditioner(True)
+        self._set_options({k: v for k, v in OUT_OF_CORE_DEFAULTS.items()
+                           if k.startswith("mat_mumps")})
+
+    def _configure_scratch(self, ksp) -> None:
+        ksp.setType(OUT_OF_CORE_DEFAULTS["ksp_type"])
+        pc = ksp.getPC()
+        pc.setType(OUT_OF_CORE_DEFAULTS["pc_type"])
+        pc.setFactorSolverType(OUT_OF_CORE_DEFAULTS["pc_factor_mat_solver_type"])
+
+
 class IterativeSolver(LinearSolver):
     """CG + algebraic multigrid, the hierarchy built once, warm-started from ``x``.
 
@@ -447,10 +489,14 @@ def make_solver(A: PETSc.Mat, comm: MPI.Comm, *, kind: str, problem: str,
                 factorization: str = "lu", petsc_options=None,
                 options_key: str = "structure.petsc", near_nullspace=None,
                 rtol: float = ITERATIVE_RTOL) -> LinearSolver:
-    """The solver of ``kind`` ("direct" or "iterative", see :func:`choose_solver`)."""
+    """The solver of ``kind`` ("direct", "out_of_core" or "iterative", see
+    :func:`choose_solver`)."""
     if kind == "direct":
         return FactorOnceSolver(A, comm, factorization=factorization, problem=problem,
                                 petsc_options=petsc_options, options_key=options_key)
+    if kind == "out_of_core":
+        return OutOfCoreSolver(A, comm, problem=problem, petsc_options=petsc_options,
+                               options_key=options_key)
     nsp = near_nullspace() if callable(near_nullspace) else near_nullspace
     return IterativeSolver(A, comm, problem=problem, petsc_options=petsc_options,
                            options_key=options_key, near_nullspace=nsp, rtol=rtol)

@@ -109,10 +109,11 @@ class Elasticity:
         Stress-free temperature (K or degC, as the temperatures given).
     factorization : {"lu", "cholesky"}
         MUMPS factorization of the effective matrix (direct solver).
-    solver : {"auto", "direct", "iterative"}
-        Linear solver: MUMPS factorized once, CG + GAMG (rigid-body near-nullspace) with
-        the hierarchy built once and a warm start, or by size ("auto": iterative from
-        ``gsi.fem._base.AUTO_ITERATIVE_DOFS["elasticity"]`` dofs on).
+    solver : {"auto", "direct", "out_of_core", "iterative"}
+        Linear solver: MUMPS factorized once, the same with the factor on disk (MUMPS
+        Cholesky, any number of ranks), CG + GAMG (rigid-body near-nullspace) with the
+        hierarchy built once and a warm start, or by size ("auto": out of core from
+        ``gsi.fem.options.AUTO_LARGE_DOFS["elasticity"]`` dofs on).
     petsc_options : dict, optional
         PETSc options without the leading dash (e.g. ``{"ksp_rtol": 1e-12}``), applied
         under this problem's own options prefix; they override gsi's defaults.

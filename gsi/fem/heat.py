@@ -94,10 +94,11 @@ class Heat:
         Lagrange degree 1 or 2.
     factorization : {"lu", "cholesky"}
         MUMPS factorization (direct solver).
-    solver : {"auto", "direct", "iterative"}
-        Linear solver: MUMPS factorized once, CG + algebraic multigrid built once with a
-        warm start, or by size ("auto": iterative from
-        ``gsi.fem._base.AUTO_ITERATIVE_DOFS["heat"]`` dofs on).
+    solver : {"auto", "direct", "out_of_core", "iterative"}
+        Linear solver: MUMPS factorized once, the same with the factor on disk (MUMPS
+        Cholesky, any number of ranks), CG + algebraic multigrid built once with a warm
+        start, or by size ("auto": iterative from
+        ``gsi.fem.options.AUTO_LARGE_DOFS["heat"]`` dofs on).
     petsc_options : dict, optional
         PETSc options without the leading dash, under this problem's own prefix.
     rtol : float, optional

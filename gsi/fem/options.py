@@ -9,10 +9,12 @@ import re
 
 from gsi.errors import GsiInputError
 
-__all__ = ["SOLVERS", "ITERATIVE_RTOL", "ITERATIVE_ATOL", "AUTO_ITERATIVE_DOFS", "ITERATIVE_DEFAULTS",
-           "choose_solver", "petsc_option_strings"]
+__all__ = ["SOLVERS", "ITERATIVE_RTOL", "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER",
+           "ITERATIVE_DEFAULTS", "OUT_OF_CORE_DEFAULTS", "choose_solver", "petsc_option_strings"]
 
-SOLVERS = ("direct", "iterative", "auto")
+#: ``direct``: the factor in memory; ``out_of_core``: a MUMPS Cholesky factor written to
+#: disk (any number of ranks); ``iterative``: CG + algebraic multigrid; ``auto``: by size
+SOLVERS = ("direct", "out_of_core", "iterative", "auto")
 
 #: Relative tolerance of the iterative solvers: the (unpreconditioned) residual must fall
 #: to ITERATIVE_RTOL times the residual of the initial guess, ||b - A x|| <= ITERATIVE_RTOL
@@ -30,15 +32,27 @@ ITERATIVE_RTOL = 1e-12
 #: 300 K field over one step, then misses its 1e-12.)
 ITERATIVE_ATOL = 1e-16
 
-#: ``solver = "auto"`` takes the iterative solver from this many global dofs on.
-#: Measured on the project's 2-core test machine (benchmarks/fe_scale.py, P2 silo shell,
-#: and benchmarks/coupled_large.py; the crossover in fe_scale.py's docstring): below it the
-#: direct solver is faster per time step by 60-670 times (elasticity; heat up to 10 times) and a
-#: single solve, factorization included, is cheaper too (2e5 dofs on 2 ranks: 41.6 s, 4.9
-#: GB); around it the direct solver's memory reaches the 8 GB a 2-rank run may use (a 2.8e5
-#: dof membrane with two P2 layers: 12.4 GB with SuperLU_DIST), which the iterative solver
-#: keeps to ~5 GB at 1e6 dofs.
-AUTO_ITERATIVE_DOFS = {"elasticity": 200_000, "heat": 200_000}
+#: ``solver = "auto"`` takes AUTO_LARGE_SOLVER[problem] from this many global dofs on, and
+#: the in-memory direct solver below. Measured on the project's 2-core test machine
+#: (benchmarks/fe_scale.py, P2 silo shell, 2 ranks; the figures in its docstring): the
+#: direct solver's time per step is 60-670 times below the iterative one's at every size
+#: (elasticity: CG + GAMG needs 159-884 iterations on the 10 mm wall), but its factor in
+#: memory passes the 8 GB a 2-rank run may use from about 2e5 dofs on (SuperLU_DIST: 4.9 GB
+#: at 2e5; 12.4 GB for the 2.8e5-dof membrane of benchmarks/coupled_large.py). From there
+#: elasticity keeps a direct solve with the factor on disk (``out_of_core``: MUMPS
+#: Cholesky; 1e6 dofs on 2 ranks in less than 8 GB, see fe_scale.py) and heat takes CG +
+#: BoomerAMG (9-13 iterations at every size).
+AUTO_LARGE_DOFS = {"elasticity": 200_000, "heat": 200_000}
+AUTO_LARGE_SOLVER = {"elasticity": "out_of_core", "heat": "iterative"}
+
+#: gsi's PETSc defaults of the out-of-core direct solver (``petsc_options`` override them):
+#: MUMPS Cholesky (the effective matrices of gsi's problems are symmetric positive
+#: definite), METIS nested-dissection ordering, the factor
+#: written to files under $MUMPS_OOC_TMPDIR (else the system's temporary directory) and
+#: removed when the solver is destroyed (a killed run leaves them there: mumps_* files).
+OUT_OF_CORE_DEFAULTS = {"ksp_type": "preonly", "pc_type": "cholesky",
+                        "pc_factor_mat_solver_type": "mumps", "mat_mumps_icntl_7": "5",
+                        "mat_mumps_icntl_22": "1"}
 
 #: gsi's PETSc defaults of the iterative solvers (``petsc_options`` override them)
 ITERATIVE_DEFAULTS = {
@@ -58,13 +72,13 @@ _KEY_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
 def choose_solver(solver: str, n_dofs: int, problem: str, *, key: str = "structure.solver") -> str:
-    """The solver actually used: ``solver`` itself, or for "auto" iterative from
-    ``AUTO_ITERATIVE_DOFS[problem]`` global dofs on ("elasticity" or "heat")."""
+    """The solver actually used: ``solver`` itself, or for "auto" ``AUTO_LARGE_SOLVER[problem]``
+    from ``AUTO_LARGE_DOFS[problem]`` global dofs on ("elasticity" or "heat"), else direct."""
     if solver not in SOLVERS:
         raise GsiInputError(f"{key} = {solver!r}: must be one of {', '.join(map(repr, SOLVERS))}")
     if solver != "auto":
         return solver
-    return "iterative" if n_dofs >= AUTO_ITERATIVE_DOFS[problem] else "direct"
+    return AUTO_LARGE_SOLVER[problem] if n_dofs >= AUTO_LARGE_DOFS[problem] else "direct"
 
 
 def petsc_option_strings(options, key: str = "structure.petsc") -> dict[str, str]:

@@ -1,7 +1,7 @@
 """One structure solved with a chosen linear solver, run under ``mpirun -n N`` by
 tests/mpi/test_fem_solvers_mpi.py.
 
-Arguments: out_path, solver ("direct" or "iterative"), mesh ("slab": a small thick disc;
+Arguments: out_path, solver ("direct", "out_of_core" or "iterative"), mesh ("slab": a small thick disc;
 "shell": the silo shell of ``meshes.shell`` at the element size given next), [h].
 Writes (rank 0) rank-count-independent results of a static solve, five generalized-alpha
 steps and three heat steps: norms, the gathered contact-surface displacement and

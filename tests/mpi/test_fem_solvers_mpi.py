@@ -5,9 +5,9 @@ The direct solver's answers differ between partitions by round-off; the iterativ
 solver's by its tolerance (||b - A x|| <= 1e-12 ||b - A x_0||, x_0 the last solution): the multigrid hierarchy, and so the
 iterates, depend on the partition. Both are held to 1e-8 of the largest value.
 
-Fast: a small thick disc, iterative solver (the direct one on 1 and 2 ranks is
+Fast: a small thick disc, iterative and out-of-core solvers (the direct one on 1 and 2 ranks is
 tests/mpi/test_fem_mpi.py). Slow (-m slow): the silo shell of meshes.shell at about
-1.2e5 dofs with both solvers.
+1.2e5 dofs with the three solvers.
 """
 import importlib.util
 from pathlib import Path
@@ -49,8 +49,13 @@ def test_iterative_solver_same_on_1_and_2_ranks(tmp_path):
     assert min(r1["dynamic_its"] + r2["dynamic_its"]) > 1
 
 
+def test_out_of_core_solver_same_on_1_and_2_ranks(tmp_path):
+    r1, r2 = _pair(tmp_path, "out_of_core", "slab")
+    _check_agree(r1, r2, "out_of_core")
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("solver", ["direct", "iterative"])
+@pytest.mark.parametrize("solver", ["direct", "out_of_core", "iterative"])
 def test_shell_same_on_1_and_2_ranks(tmp_path, solver):
     r1, r2 = _pair(tmp_path, solver, "shell", 0.04, timeout=3600)
     assert r1["n_dofs"] > 1e5
