@@ -23,10 +23,12 @@ case through /proc/self/clear_refs, glibc told to give freed memory back), summe
 (``peak_gb``) and largest (``rank_gb``) over the ranks, with the resident memory at the
 case's start (``base_gb``, summed: what earlier cases left, which the peak includes; with
 ``--largest-first`` it is the larger cases' heap). The last line is machine-readable
-key=value: ``max_dofs`` (largest dynamic case), ``ranks``, ``solver``, ``step_s_at_max``
+key=value: ``max_dofs`` (largest dynamic case), ``ranks``, ``solver`` (the fastest
+dynamic step at the largest size run), ``step_s_at_max``
 (its dynamic step), ``peak_mem_gb`` (the largest total over every case run), ``exponent``
-(least-squares slope of log dynamic step time against log dofs, iterative solver if it
-ran), the same slopes of the static re-solve and the heat step, the iterations at the
+(least-squares slope of log dynamic step time against log dofs of that solver; the other
+solvers' slopes and largest steps as ``exponent_<solver>``, ``step_s_at_max_<solver>``),
+the same slopes of the static re-solve and the heat step, the iterations at the
 largest size and the load average (``uptime``) at the start and the end.
 
 The direct solver is skipped above ``--direct-max-dofs`` (its memory grows faster than the
@@ -35,7 +37,7 @@ needs ~2000 CG iterations on this thin wall: 27 s on one rank at 1e4 dofs).
 
 Crossover (measured 2026-12-02 on the 2-core test machine while other jobs loaded it,
 load average 4-6: the times are 2-3 times an idle machine's; ``solver = "auto"`` takes its
-threshold, :data:`gsi.fem.options.AUTO_ITERATIVE_DOFS`, from these figures):
+threshold, :data:`gsi.fem.options.AUTO_LARGE_DOFS`, from these figures):
 
 * elasticity, dynamic step: the direct solve is 60-670 times faster than the iterative
   one at every size measured (1e4-1e5 dofs; 1e5 on 2 ranks: 1.4 s against 81 s, 505 CG
@@ -45,6 +47,11 @@ threshold, :data:`gsi.fem.options.AUTO_ITERATIVE_DOFS`, from these figures):
   benchmarks/coupled_large.py (two P2 layers). The iterative solver's iterations fall as
   the mesh is refined (the elements' in-plane size approaches the wall's 10 mm: 884 at 1e4,
   505 at 1e5, 159 at 1e6 dofs), so its step time grows as dofs^0.67 on 2 ranks;
+* elasticity out of core (``out_of_core``: MUMPS Cholesky, METIS, the factor on disk), 2
+  ranks: 0.88 s per step at 4e5 dofs (2.9 GB; 0.53 s and 4.65 GB with the factor in
+  memory) and 3.74 s at 998,280 dofs in 6.82 GB (set-up 1,882 s with each rank on half a
+  core): the direct solve keeps its lead at every size, so ``auto`` takes it from where
+  the in-memory factor passes the 8 GB of a 2-rank run;
 * heat: CG + BoomerAMG needs 9-13 iterations at every size; per step it is 1-10 times
   slower than the direct solve up to 1e5 dofs, its set-up 2-6 times faster.
 
@@ -54,6 +61,8 @@ Run::
         --steps 1 --direct-max-dofs 1.1e5 --static-max-dofs 1.1e4 --largest-first
     mpirun -n 1 python benchmarks/fe_scale.py --solver both --max-dofs 1e5 --sizes 3 \
         --steps 1 --static-max-dofs 1.1e4
+    mpirun -n 2 python benchmarks/fe_scale.py --solver out_of_core --problems dynamic \
+        --min-dofs 1e6 --max-dofs 1e6 --sizes 1 --steps 3
 """
 from __future__ import annotations
 
