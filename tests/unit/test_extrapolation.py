@@ -35,6 +35,47 @@ def test_sparse_pairing_matches_dense():
     assert np.array_equal(np.sort(sparse), np.arange(len(g)))
 
 
+def test_sparse_pairing_when_the_bed_changes_shape():
+    """The t1 positions fill half the width of the t0 box: the graph of each particle's
+    k nearest t1 positions has no perfect matching (Hopcroft-Karp matches 132-149 of
+    200), which scipy 1.10's weighted matching does not always report (it can loop for
+    ever); the pairing finds that first, adds neighbours both ways, and reaches the dense
+    optimum."""
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import maximum_bipartite_matching
+    from scipy.spatial import cKDTree
+    n, k = 200, 2
+    for seed in range(3):
+        rng = np.random.default_rng(seed)
+        x0 = rng.uniform(0, 1, (n, 3))
+        x1 = rng.uniform(0, 1, (n, 3)) * [0.5, 1, 1] + [0.25, 0, 0]
+        _, j = cKDTree(x1).query(x0, k=k)
+        one_way = csr_matrix((np.ones(k * n), (np.repeat(np.arange(n), k), j.reshape(-1))),
+                             shape=(n, n))
+        assert (maximum_bipartite_matching(one_way, perm_type="column") < 0).any()
+        dense = pair_particles(x0, x1, method="dense")
+        sparse = pair_particles(x0, x1, method="sparse", k=k)
+        assert pairing_cost(x0, x1, sparse) == pytest.approx(pairing_cost(x0, x1, dense),
+                                                             rel=1e-12)
+
+
+def test_perfect_matching_check_agrees_with_hopcroft_karp():
+    from scipy.sparse import random as sparse_random
+    from scipy.sparse.csgraph import maximum_bipartite_matching
+    from gsi.extrapolation import _has_perfect_matching
+    rng = np.random.default_rng(11)
+    answers = set()
+    for _ in range(200):
+        n = int(rng.integers(1, 25))
+        G = sparse_random(n, n, density=float(rng.uniform(0.05, 0.4)), format="csr",
+                          random_state=rng)
+        G.sort_indices()
+        hk = bool((maximum_bipartite_matching(G, perm_type="column") >= 0).all())
+        assert _has_perfect_matching(G.indptr, G.indices, n) == hk
+        answers.add(hk)
+    assert answers == {True, False}
+
+
 def fake_log(rng, n=40, rows=3000, *, dur=5, dt=1e-4, C=1.0, walls=False):
     """A ContactLog with random pairs (random order of starts), sizes and capacities."""
     i = rng.integers(0, n, rows)
