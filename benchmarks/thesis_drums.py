@@ -10,7 +10,7 @@ materials of Table III.1:
 * copper: r = 2 mm, rho 8900 kg/m3, c_p 172 J/(kg K), k 385 W/(m K) -- the cases as
   shipped, 336 spheres;
 * alumina: r = 1 mm, rho 3900, c_p 875, k 36 -- the same bed boxes filled with a lattice of
-  the smaller spheres (1,560), the slab 2 mm thick, dt = t_c / 50 of the linear law
+  the smaller spheres (1,450), the slab 2 mm thick, dt = 0.99 t_c / 50 of the linear law
   (t_c = pi sqrt(m*/K), m* = m/2).
 
 For every material, speed and cavity the run lasts ``--turns`` turns and prints Lacey's
