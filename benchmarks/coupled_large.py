@@ -42,7 +42,8 @@ def main():
     ap.add_argument("--full", action="store_true", help="the full case instead of --quick")
     ap.add_argument("--h", type=float, default=0.0085, help="membrane element size (m)")
     ap.add_argument("--n-thickness", type=int, default=2, help="P2 layers through the membrane")
-    ap.add_argument("--solver", choices=["auto", "direct", "iterative"], default="direct")
+    ap.add_argument("--solver", choices=["auto", "direct", "out_of_core", "iterative"],
+                    default="direct")
     args = ap.parse_args()
     from gsi.case import load_case
     from gsi.runner import Runner
