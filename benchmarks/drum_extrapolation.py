@@ -21,6 +21,12 @@ Usage::
 
     python benchmarks/drum_extrapolation.py [--quick] [--particles N] [--periods P]
         [--period-turns F] [--every 1,10] [--dt-split S] [--threads T] [--out DIR]
+        [--state PATH [--setup-only]]
+
+The set-up before t0 (fill, settle, one turn) is most of the DEM of a run at 80,000
+particles; ``--state PATH`` saves it every 5,000 steps and resumes it, so it may be
+spread over several runs (``--setup-only`` stops at t0); the measured part (the logged
+period, the reference periods, pairing and replay) always runs whole, in one process.
 
 ``--quick`` is the CI size, 5,000 particles.  Times are wall-clock seconds and, as the
 machine may be shared, process CPU seconds (with ``--threads 1`` the CPU time of the one
@@ -47,6 +53,12 @@ def main(argv=None):
                     help="Delta t_c^max (s), default 0.01 (100 steps)")
     ap.add_argument("--spin-up", type=float, default=1.0, help="turns before t0 (default 1)")
     ap.add_argument("--threads", type=int, default=None, help="numba threads (default all)")
+    ap.add_argument("--state", default=None,
+                    help="a .npz path: the set-up (fill, settle, spin-up) is saved there every "
+                         "5,000 steps and resumed from it, so it can be spread over several "
+                         "runs (gsi.drum.prepare); the measured part always runs whole")
+    ap.add_argument("--setup-only", action="store_true",
+                    help="stop at t0 (with --state: the set-up saved, for a later run)")
     ap.add_argument("--out", default=None,
                     help="directory for the collision files and reference.npz (the full DEM "
                          "and the replays at every t_n)")
@@ -63,10 +75,23 @@ def main(argv=None):
           f"{g.period:.4g} s per turn ({g.steps_per_turn} steps), Fr = {g.froude:.4g} "
           f"({g.regime}); threads {numba.get_num_threads()}", flush=True)
     t = time.perf_counter()
-    sim, hot, _ = prepare(g, spin_up=args.spin_up)
+    timing = {}
+    sim, hot, _ = prepare(g, spin_up=args.spin_up, state=args.state, timing=timing,
+                          say=lambda m: print("  " + m, flush=True))
     t_prep = time.perf_counter() - t
-    print(f"fill + settle + {args.spin_up:g} turn: {t_prep:.1f} s (incl. compilation); "
-          f"{sim.n} particles at t0 = {sim.time:.4g} s", flush=True)
+    print(f"fill + settle + {args.spin_up:g} turn: {t_prep:.1f} s in this run (incl. "
+          f"compilation); {sim.n} particles at t0 = {sim.time:.4g} s", flush=True)
+    if timing.get("spin_steps"):
+        spin_s = timing["spin_seconds"] * g.steps_per_turn / timing["spin_steps"]
+        print(f"spin-up: {timing['spin_steps']} steps of the turning drum in "
+              f"{timing['spin_seconds']:.1f} s (over all runs of the set-up): "
+              f"{spin_s:.1f} s per turn", flush=True)
+    if args.setup_only:
+        line = f"particles={n} t0={sim.time:.6g}"
+        if timing.get("spin_steps"):
+            line += f" spin_s_per_turn={spin_s:.4g}"
+        print(line)
+        return {"particles": n, "t0": sim.time}
     steps = int(round(args.period_turns * g.steps_per_turn))
     samplings = [(int(e), args.dt_split) for e in args.every.split(",")]
     with tempfile.TemporaryDirectory() as tmp:
@@ -132,6 +157,8 @@ def main(argv=None):
         collision_file_mb=run["file_bytes"] / 1e6,
         bytes_per_collision=run["log"].bytes_per_collision(), every=run["every"],
         dt_split=run["dt_split"], periods=args.periods, period_turns=args.period_turns)
+    if timing.get("spin_steps"):
+        res["spin_s_per_turn"] = spin_s
     print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
                    for k, v in res.items()))
     return res

@@ -201,12 +201,23 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
 
 
 def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0,
-            seed: int = 3):
+            seed: int = 3, state: str | None = None, chunk: int = 5000, say=None,
+            timing: dict | None = None):
     """Fill, settle and spin up a drum of the family (the paper's set-up before t0).
 
     The lattice fill settles with the drum at rest for ``settle`` s; then the left half
     (x < 0) is set to :data:`T_HOT` and the right half to :data:`T_COLD` (t_init), the
     drum starts turning, and it turns ``spin_up`` turns.
+
+    With ``state`` (a ``.npz`` path) the set-up can be spread over several runs: every
+    ``chunk`` steps the whole DEM state (:meth:`gsi.dem.Simulation.state`), the hot
+    flags and the steps done are written to ``state`` (crash-safe: a temporary file
+    renamed over it), and a run that finds the file resumes from it, bit-identically to
+    an uninterrupted set-up (the simulation is rebuilt the same way); a file written for
+    another drum, settle, spin-up or seed is refused. ``say(msg)`` gets a line per chunk.
+    ``timing`` (a dict), if given, receives ``spin_seconds`` and ``spin_steps``: the wall
+    seconds and steps of the turning drum, summed over all the runs that made this
+    set-up (kept in the state file), so the spin-up's own rate can be reported.
 
     Returns
     -------
@@ -216,14 +227,56 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
         By particle id (``sim.ids`` are 0..N-1): the particle was hot at t_init.
     case : gsi.case.Case
     """
+    import pathlib
+    import time
     from gsi.runner import build_simulation
+    say = say or (lambda m: None)
     case = drum_case(geometry, settle=settle, seed=seed)
     dt = case.check()
     sim, handles, _ = build_simulation(case, dt=dt)
-    sim.step(int(round(settle / dt)))
-    hot = np.zeros(sim._next_id, bool)
-    hot[sim.ids] = sim.x[:, 0] < 0.0
-    sim.T[:] = np.where(hot[sim.ids], T_HOT, T_COLD)
-    case.walls[0].apply_motion(handles["drum"], sim.time)
-    sim.step(int(round(spin_up * geometry.steps_per_turn)))
+    n_settle = int(round(settle / dt))
+    n_total = n_settle + int(round(spin_up * geometry.steps_per_turn))
+    key = np.array([geometry.particles, geometry.steps_per_turn, n_settle, n_total, seed],
+                   np.int64)
+    done, hot, spin = 0, None, np.zeros(2)       # spin: seconds, steps of the turning drum
+    path = pathlib.Path(state) if state is not None else None
+    if path is not None and path.exists():
+        from gsi.checkpoint import read_npz
+        d = read_npz(path)
+        if not np.array_equal(d["drum.key"], key):
+            raise GsiInputError(
+                f"state = {str(path)!r} was written for another drum set-up (particles, "
+                f"steps per turn, settle and total steps, seed = {d['drum.key'].tolist()}, "
+                f"this one {key.tolist()}); remove it or give another path")
+        sim.set_state({k: v for k, v in d.items() if not k.startswith("drum.")})
+        done = int(d["drum.done"])
+        spin = np.array(d["drum.spin"], float)
+        if done >= n_settle:
+            hot = np.array(d["drum.hot"], bool)
+        say(f"resumed the set-up at step {done} of {n_total} from {path}")
+    while True:
+        if done == n_settle and hot is None:
+            hot = np.zeros(sim._next_id, bool)
+            hot[sim.ids] = sim.x[:, 0] < 0.0
+            sim.T[:] = np.where(hot[sim.ids], T_HOT, T_COLD)
+        if done >= n_settle:
+            case.walls[0].apply_motion(handles["drum"], sim.time)
+        if done >= n_total:
+            break
+        end = n_settle if done < n_settle else n_total
+        k = min(end - done, chunk if path is not None else end - done)
+        t = time.perf_counter()
+        sim.step(k)
+        if done >= n_settle:
+            spin += (time.perf_counter() - t, k)
+        done += k
+        if path is not None:
+            from gsi.checkpoint import write_npz
+            d = sim.state()
+            d.update({"drum.key": key, "drum.done": np.array(done), "drum.spin": spin,
+                      "drum.hot": hot if hot is not None else np.zeros(0, bool)})
+            write_npz(path, d)
+            say(f"set-up step {done} of {n_total} (t = {sim.time:.4g} s) saved to {path}")
+    if timing is not None:
+        timing.update(spin_seconds=float(spin[0]), spin_steps=int(spin[1]))
     return sim, hot, case
