@@ -124,7 +124,7 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
               heat: str = "area", seed: int = 3, facets: int | None = None,
               extrapolation: bool = False, spin_up: float = 1.0, period_turns: float = 1.0,
               periods: int = 6, every: int = 10, dt_split: float = 0.01,
-              name: str | None = None):
+              name: str | None = None, skin: float | None = None):
     """The drum as a :class:`gsi.case.Case`: materials of seed 003 Tables 3-4, a closed
     ``drum`` wall (adiabatic) at rest for ``settle`` seconds and then turning once per
     ``geometry.period``, and a lattice fill of ``geometry.particles`` spheres from the
@@ -152,6 +152,9 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
         DEM run on.
     name : str, optional
         ``case.name`` (default ``drum_<N>``).
+    skin : float, optional
+        ``dem.skin`` (m; default gsi's, 0.4 particle radii). Only the neighbour lists
+        depend on it (more candidates, fewer rebuilds); results agree to round-off.
     """
     from gsi.case import (Case, CaseInfo, Dem, Material, Output, ParticleSource, Region,
                           Run, Size, Wall)
@@ -186,7 +189,7 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
                                   f"(Fr = {geometry.froude:.3g}, {geometry.regime})"),
         run=Run(duration=end if duration is None else duration, dt=DT, seed=seed,
                 progress=False),
-        dem=Dem(contact="hertz", rolling=True, heat=heat, gravity=(0.0, 0.0, -G),
+        dem=Dem(contact="hertz", rolling=True, heat=heat, gravity=(0.0, 0.0, -G), skin=skin,
                 domain_lo=(round(-R - margin, 6), -margin, round(-R - margin, 6)),
                 domain_hi=(round(R + margin, 6), round(L + margin, 6), round(R + margin, 6))),
         materials={"grain": grain, "drum_wall": wall},
@@ -202,7 +205,7 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
 
 def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0,
             seed: int = 3, state: str | None = None, chunk: int = 5000, say=None,
-            timing: dict | None = None):
+            timing: dict | None = None, skin: float | None = None):
     """Fill, settle and spin up a drum of the family (the paper's set-up before t0).
 
     The lattice fill settles with the drum at rest for ``settle`` s; then the left half
@@ -218,6 +221,7 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     ``timing`` (a dict), if given, receives ``spin_seconds`` and ``spin_steps``: the wall
     seconds and steps of the turning drum, summed over all the runs that made this
     set-up (kept in the state file), so the spin-up's own rate can be reported.
+    ``skin`` is :func:`drum_case`'s.
 
     Returns
     -------
@@ -231,13 +235,13 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     import time
     from gsi.runner import build_simulation
     say = say or (lambda m: None)
-    case = drum_case(geometry, settle=settle, seed=seed)
+    case = drum_case(geometry, settle=settle, seed=seed, skin=skin)
     dt = case.check()
     sim, handles, _ = build_simulation(case, dt=dt)
     n_settle = int(round(settle / dt))
     n_total = n_settle + int(round(spin_up * geometry.steps_per_turn))
-    key = np.array([geometry.particles, geometry.steps_per_turn, n_settle, n_total, seed],
-                   np.int64)
+    key = np.array([geometry.particles, geometry.steps_per_turn, n_settle, n_total, seed,
+                    round(sim.skin * 1e9)], np.int64)
     done, hot, spin = 0, None, np.zeros(2)       # spin: seconds, steps of the turning drum
     path = pathlib.Path(state) if state is not None else None
     if path is not None and path.exists():
@@ -246,7 +250,8 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
         if not np.array_equal(d["drum.key"], key):
             raise GsiInputError(
                 f"state = {str(path)!r} was written for another drum set-up (particles, "
-                f"steps per turn, settle and total steps, seed = {d['drum.key'].tolist()}, "
+                f"steps per turn, settle and total steps, seed, skin in nm = "
+                f"{d['drum.key'].tolist()}, "
                 f"this one {key.tolist()}); remove it or give another path")
         sim.set_state({k: v for k, v in d.items() if not k.startswith("drum.")})
         done = int(d["drum.done"])
