@@ -49,7 +49,6 @@ def force_pass_seconds(sim, mode, *, mesh=True, calls=10, batches=20):
     """Seconds per force pass (``contact_forces`` in ``mode``: 0 forces only, 2 fused with
     the integration), a compiled loop of ``calls`` passes; without ``mesh`` the triangle
     candidates and contacts are hidden."""
-    import numba
     import numpy as np
 
     def call(k):
