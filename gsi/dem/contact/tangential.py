@@ -52,9 +52,12 @@ def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, hist, k, 
     ftx = -k_t * xx - gamma_t * vtx
     fty = -k_t * xy - gamma_t * vty
     ftz = -k_t * xz - gamma_t * vtz
-    ft = math.sqrt(ftx * ftx + fty * fty + ftz * ftz)
+    # |F_t| > cap compared squared: the square root only for a sliding contact
+    # (settled bed, one thread: force pass 2.18 -> 2.12 ms, benchmarks/engine_ab.py)
+    ft2 = ftx * ftx + fty * fty + ftz * ftz
     cap = mu * abs(F_n)
-    if ft > cap:
+    if ft2 > cap * cap:
+        ft = math.sqrt(ft2)
         if ft > 0.0:
             s = cap / ft
             ftx *= s
