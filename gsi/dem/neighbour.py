@@ -120,11 +120,11 @@ def fill_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims
 
     The order is for the force pass's branch on "touching": a particle's pairs then
     read touching ... touching, apart ... apart, and stay so until contacts open or
-    close, which the branch predictor follows; in cell order they alternate at random
-    (about half the candidates touch in a dense bed).  On the settled ``settle`` bed
-    the force pass went from 2.42 to 2.13 ms (one thread; ``benchmarks/settle.py``);
-    the touching pairs keep their relative order, so their forces add up in the same
-    order as in cell order.
+    close, which the branch predictor follows; in cell order touching and apart come
+    at random (about half the candidates touch in a dense bed), and each wrong guess
+    costs a pipeline flush.  ``benchmarks/pair_order.py`` times both orders on the
+    settled ``settle`` bed; the touching pairs keep their relative (cell) order, so
+    their forces add up in the same order as in cell order.
     """
     for i in prange(n):
         cx, cy, cz = _unravel(cell_of[i], dims)

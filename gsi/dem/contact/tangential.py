@@ -52,8 +52,9 @@ def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, hist, k, 
     ftx = -k_t * xx - gamma_t * vtx
     fty = -k_t * xy - gamma_t * vty
     ftz = -k_t * xz - gamma_t * vtz
-    # |F_t| > cap compared squared: the square root only for a sliding contact
-    # (settled bed, one thread: force pass 2.18 -> 2.12 ms, benchmarks/engine_ab.py)
+    # |F_t| > cap compared squared: the square root only for a sliding contact (the
+    # settled bed's force pass 2-4 % faster in three interleaved runs of
+    # benchmarks/engine_ab.py, one thread, a shared machine)
     ft2 = ftx * ftx + fty * fty + ftz * ftz
     cap = mu * abs(F_n)
     if ft2 > cap * cap:
