@@ -115,21 +115,10 @@ def count_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dim
 @pjit
 def fill_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_start,
                nb_j):
-    """Partners of each particle into ``nb_j[nb_start[i]:nb_start[i+1]]``: those touching
-    i at the build first (in cell order), then the others (from the end backwards).
-
-    The order is for the force pass's branch on "touching": a particle's pairs then
-    read touching ... touching, apart ... apart, and stay so until contacts open or
-    close, which the branch predictor follows; in cell order touching and apart come
-    at random (about half the candidates touch in a dense bed), and each wrong guess
-    costs a pipeline flush.  ``benchmarks/pair_order.py`` times both orders on the
-    settled ``settle`` bed; the touching pairs keep their relative (cell) order, so
-    their forces add up in the same order as in cell order.
-    """
+    """Partners of each particle into ``nb_j[nb_start[i]:nb_start[i+1]]``."""
     for i in prange(n):
         cx, cy, cz = _unravel(cell_of[i], dims)
         pos = nb_start[i]
-        back = nb_start[i + 1] - 1
         ri = radius[i]
         si = slab_of[i]
         for ax in range(max(cx - 1, 0), min(cx + 2, dims[0])):
@@ -141,16 +130,12 @@ def fill_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims
                         sj = slab_of[j]
                         if sj < si or (sj == si and j <= i):
                             continue
-                        rs = ri + radius[j]
-                        rc = rs + skin
+                        rc = ri + radius[j] + skin
                         d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
                               + (x[j, 2] - x[i, 2]) ** 2)
-                        if d2 < rs * rs:
+                        if d2 < rc * rc:
                             nb_j[pos] = j
                             pos += 1
-                        elif d2 < rc * rc:
-                            nb_j[back] = j
-                            back -= 1
 
 
 #: particles per slab at least (on average) in a serial run of a small system: a slab

@@ -27,32 +27,6 @@ def test_half_list_equals_brute_force():
     assert got == want and len(want) > 40
 
 
-def test_partners_touching_at_the_build_come_first():
-    """Each particle's partners: those touching it at the build first, then the others
-    (the force pass's branch on "touching" then follows a pattern, see
-    ``gsi.dem.neighbour.fill_pairs``)."""
-    rng = np.random.default_rng(3)
-    g = np.arange(7) * 1.9e-3 + 2e-3
-    x = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
-    x += rng.uniform(-1e-4, 1e-4, x.shape)
-    r = rng.uniform(0.85e-3, 1.0e-3, len(x))
-    L = 0.018
-    sim = Simulation(MAT, gravity=(0, 0, 0), dt=1e-7, skin=3e-4,
-                     domain=((0, 0, 0), (L, L, L)))
-    sim.add_particles(x, r, material="m")
-    sim.step(1)
-    x0, r = sim.particles.x0, sim.radius
-    start, j = sim.pairs.start, sim.pairs.j
-    n_touch = n_apart = 0
-    for i in range(sim.n):
-        js = j[start[i]:start[i + 1]]
-        touch = np.linalg.norm(x0[js] - x0[i], axis=1) < r[js] + r[i]
-        assert not np.any(touch[1:] & ~touch[:-1]), f"particle {i}: {touch}"
-        n_touch += touch.sum()
-        n_apart += (~touch).sum()
-    assert n_touch > 200 and n_apart > 200
-
-
 @pytest.mark.parametrize("sort", [False, True])
 def test_history_survives_rebuild_and_deletion(sort):
     """Sheared touching pairs build springs; deleting an idle particle (rows shift) and
