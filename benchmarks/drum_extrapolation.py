@@ -123,7 +123,8 @@ def main(argv=None):
               f"{run['log_seconds']:.2f} s (the logged DEM period), "
               f"{run['file_bytes'] / 1e6:.2f} MB ({log.n_collisions} rows, "
               f"{log.bytes_per_collision():.1f} bytes/collision, written in "
-              f"{run['file_seconds']:.2f} s); pairing {run['pairing_seconds']:.3f} s; replay "
+              f"{run['file_seconds']:.2f} s); pairing {run['pairing_seconds']:.3f} s "
+              f"{pairing_note(run)}; replay "
               f"set-up {run['replay_setup_seconds']:.3f} s; "
               f"replay {run['replay_seconds']:.4f} s per period ({run['n_rows']} rows, "
               f"max m H/C {run['max_stability_ratio']:.2g}, {run['n_substepped']} sub-stepped); "
@@ -167,6 +168,15 @@ def main(argv=None):
     print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
                    for k, v in res.items()))
     return res
+
+
+def pairing_note(run):
+    """The sparse pairing's rounds, graph size and certified gap, or "(dense)"."""
+    i = run.get("pairing_info") or {}
+    if not i:
+        return "(dense)"
+    return (f"(sparse: {i['rounds']} auction rounds, {i['edges']} pairs in the graph, "
+            f"summed distance within {i['gap_bound']:.2g} m of the minimum)")
 
 
 def dem_gap(dem, hot, log, n):
