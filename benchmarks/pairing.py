@@ -4,14 +4,19 @@ A bed like the drum's at two instants: N sites of a simple-cubic lattice (spacin
 r = 5 mm) in the lower half of a horizontal cylinder, each position jittered by up to
 0.3 r independently at t0 and at t1, the particles shuffled between the two (every
 particle has moved; the bed has not).  Times the exact dense assignment
-(scipy.optimize.linear_sum_assignment, up to --dense-max particles) and the exact
-sparse matching with its dual certificate (:func:`gsi.extrapolation.pair_particles`,
-method "sparse"), checks that they agree, and prints one line per N; the last line
-holds ``n=`` and the seconds of each method at the largest N.
+(scipy.optimize.linear_sum_assignment, up to --dense-max particles) and the certified
+sparse auction (:func:`gsi.extrapolation.pair_particles`, method "sparse"), checks that
+they agree, and prints one line per N; the last line holds ``n=`` and the seconds of
+each method at the largest N.
+
+``--positions FILE`` pairs the ``x0`` and ``x1`` of an .npz instead (a contact log
+written by ``benchmarks/drum_extrapolation.py --out DIR`` has them: a real turn of the
+drum, where the bed changes shape), sparse only unless N <= --dense-max.
 
 Usage::
 
     python benchmarks/pairing.py [--n 1000,2000,5000,10000,20000,80000] [--dense-max 10000]
+        [--positions FILE]
 """
 import argparse
 import os
@@ -41,11 +46,18 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", default="1000,2000,5000,10000,20000,80000")
     ap.add_argument("--dense-max", type=int, default=10_000)
+    ap.add_argument("--positions", default=None, help="an .npz with x0 and x1 (N, 3)")
     args = ap.parse_args(argv)
+    import numpy as np
     from gsi.extrapolation import pair_particles, pairing_cost
+    if args.positions:
+        with np.load(args.positions) as f:
+            beds = [(f["x0"], f["x1"])]
+    else:
+        beds = (bed(int(v), seed=int(v)) for v in args.n.split(","))
     last = {}
-    for n in (int(v) for v in args.n.split(",")):
-        x0, x1 = bed(n, seed=n)
+    for x0, x1 in beds:
+        n = len(x0)
         line = {"n": n}
         if n <= args.dense_max:
             t = time.perf_counter()
@@ -53,8 +65,10 @@ def main(argv=None):
             line["dense_s"] = time.perf_counter() - t
             line["dense_cost_m"] = pairing_cost(x0, x1, d)
         t = time.perf_counter()
-        s = pair_particles(x0, x1, method="sparse")
+        info = {}
+        s = pair_particles(x0, x1, method="sparse", info=info)
         line["sparse_s"] = time.perf_counter() - t
+        line.update(rounds=info["rounds"], edges=info["edges"], gap_bound_m=info["gap_bound"])
         line["sparse_cost_m"] = pairing_cost(x0, x1, s)
         if "dense_cost_m" in line:
             line["agree"] = abs(line["sparse_cost_m"] - line["dense_cost_m"]) <= \

@@ -93,7 +93,7 @@ def pair_particles(x0, x1, *, method="auto", k=16, info=None):
         Neighbours per particle of the first sparse graph.
     info : dict, optional
         Filled by ``sparse`` with ``rounds`` (auctions), ``edges`` (of the last graph)
-        and ``gap_bound`` (m; N eps).
+        and ``gap_bound`` (m; N eps with a margin for round-off).
 
     Returns
     -------
@@ -153,8 +153,11 @@ def _sparse_pairing(x0, x1, k, info=None):
         _auction(G.indptr, G.indices.astype(np.int64), G.data, price, sigma, eps0, eps, 8.0)
         # pairs of all N^2 that break eps-complementary slackness (cheaper than sigma[a]
         # by more than eps): the cheapest of each such row join the graph
-        level = np.linalg.norm(x0 - x1[sigma], axis=1) + price[sigma] - eps
-        rows, cols = grid.cheaper(x0, price, level * (1.0 - 1e-15) - 1e-15 * scale, 16)
+        # (less a margin of ~10 ulps for the round-off of the sums, which the gap bound
+        # below includes)
+        level = np.linalg.norm(x0 - x1[sigma], axis=1) + price[sigma]
+        margin = eps + 1e-15 * (scale + float(np.abs(level).max()))
+        rows, cols = grid.cheaper(x0, price, level - margin, 16)
         ra = np.repeat(rows, cols.shape[1])
         rb = cols.reshape(-1)
         ra, rb = ra[rb >= 0], rb[rb >= 0]
@@ -169,7 +172,7 @@ def _sparse_pairing(x0, x1, k, info=None):
             sigma[rows] = -1
             eps0 = eps
     if info is not None:
-        info.update(rounds=rounds, edges=len(keys), gap_bound=n * eps)
+        info.update(rounds=rounds, edges=len(keys), gap_bound=n * margin)
     return sigma
 
 
@@ -242,48 +245,6 @@ def _cell_of(x, lo, h, dims):
 
 
 @pjit
-def _broken(x0, xs, order, start, pmin, lo, h, dims, price, level, broken):
-    """broken[a]: whether some column b has |x0[a] - x1[b]| + price[b] < level[a].
-    Cells are pruned by their nearest point and their lowest price."""
-    p_lo = np.inf
-    for c in range(pmin.shape[0]):
-        p_lo = min(p_lo, pmin[c])
-    for a in prange(x0.shape[0]):
-        broken[a] = _any_below(a, x0, xs, order, start, pmin, lo, h, dims, price, level[a],
-                               p_lo)
-
-
-@njit
-def _any_below(a, x0, xs, order, start, pmin, lo, h, dims, price, level, p_lo):
-    rad = level - p_lo
-    if rad <= 0.0:
-        return False
-    lo_i = np.empty(3, np.int64)
-    hi_i = np.empty(3, np.int64)
-    for d in range(3):
-        lo_i[d] = min(max(int(math.floor((x0[a, d] - rad - lo[d]) / h)), 0), dims[d] - 1)
-        hi_i[d] = min(max(int(math.floor((x0[a, d] + rad - lo[d]) / h)), 0), dims[d] - 1)
-    for i in range(lo_i[0], hi_i[0] + 1):
-        dx = max(lo[0] + i * h - x0[a, 0], 0.0, x0[a, 0] - lo[0] - (i + 1) * h)
-        for j in range(lo_i[1], hi_i[1] + 1):
-            dy = max(lo[1] + j * h - x0[a, 1], 0.0, x0[a, 1] - lo[1] - (j + 1) * h)
-            for k in range(lo_i[2], hi_i[2] + 1):
-                c = (i * dims[1] + j) * dims[2] + k
-                if start[c] == start[c + 1]:
-                    continue
-                dz = max(lo[2] + k * h - x0[a, 2], 0.0, x0[a, 2] - lo[2] - (k + 1) * h)
-                if math.sqrt(dx * dx + dy * dy + dz * dz) + pmin[c] >= level:
-                    continue
-                for q in range(start[c], start[c + 1]):
-                    ex = x0[a, 0] - xs[q, 0]
-                    ey = x0[a, 1] - xs[q, 1]
-                    ez = x0[a, 2] - xs[q, 2]
-                    if math.sqrt(ex * ex + ey * ey + ez * ez) + price[order[q]] < level:
-                        return True
-    return False
-
-
-@pjit
 def _cheapest(rows, x0, xs, order, start, pmin, lo, h, dims, price, low, out_b):
     """For each row a = rows[r]: the m = out_b.shape[1] columns b of lowest
     |x0[a] - x1[b]| + price[b] below low[a] (out_b[r], -1 where fewer)."""
@@ -351,12 +312,11 @@ class _PriceGrid:
         its m columns of lowest such value (rows, (len(rows), m) columns, -1 where fewer)."""
         pmin = np.full(len(self.start) - 1, np.inf)
         np.minimum.at(pmin, self.cell, price)
-        n = len(x0)
-        broken = np.zeros(n, np.bool_)
         args = (x0, self.xs, self.order, self.start, pmin, self.lo, self.h, self.dims, price,
                 level)
-        _broken(*args, broken)
-        rows = np.flatnonzero(broken)
+        one = np.empty((len(x0), 1), np.int64)        # the cheapest, where there is one
+        _cheapest(np.arange(len(x0)), *args, one)
+        rows = np.flatnonzero(one[:, 0] >= 0)
         cols = np.empty((len(rows), m), np.int64)
         _cheapest(rows, *args, cols)
         return rows, cols
