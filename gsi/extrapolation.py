@@ -58,9 +58,9 @@ __all__ = ["pair_particles", "pairing_cost", "Replay", "FEWallReplay", "voronoi_
            "CaseExtrapolation", "DENSE_PAIRING_MAX"]
 
 #: up to this many particles ``pair_particles(method="auto")`` solves the dense
-#: assignment problem; above, the sparse one with its certificate (both exact; measured
-#: by benchmarks/pairing.py on a drum-like bed: dense 0.3 s at 2,000 and 6.2 s at
-#: 10,000 particles, sparse 0.03 s and 0.13 s)
+#: assignment problem; above, the sparse auction with its check on all pairs (measured
+#: by benchmarks/pairing.py on a drum-like bed, another job on the machine: dense 0.10 s
+#: at 2,000 and 2.3 s at 10,000 particles, sparse 0.16 s at both)
 DENSE_PAIRING_MAX = 2_000
 
 
