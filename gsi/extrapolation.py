@@ -59,15 +59,15 @@ __all__ = ["pair_particles", "pairing_cost", "Replay", "FEWallReplay", "voronoi_
 
 #: up to this many particles ``pair_particles(method="auto")`` solves the dense
 #: assignment problem; above, the sparse auction with its check on all pairs (measured
-#: by benchmarks/pairing.py on a drum-like bed, another job on the machine: dense 0.10 s
-#: at 2,000 and 2.3 s at 10,000 particles, sparse 0.16 s at both)
+#: by benchmarks/pairing.py on a drum-like bed, idle machine: dense 0.030 s at 2,000 and
+#: 1.5 s at 10,000 particles, sparse 0.045 s and 0.12 s)
 DENSE_PAIRING_MAX = 2_000
 
 
 def pair_particles(x0, x1, *, method="auto", k=16, info=None):
     """The pairing f_ext of eq. 6: the permutation sigma minimising
     sum_a |x0[a] - x1[sigma[a]]| (Euclidean distances); exact (``dense``) or within a
-    certified n * 1e-14 * (bed size) of the minimum (``sparse``).
+    certified N (1e-14 * (bed size) + round-off margin) of the minimum (``sparse``).
 
     Parameters
     ----------
@@ -83,8 +83,9 @@ def pair_particles(x0, x1, *, method="auto", k=16, info=None):
         N^2 pairs (a grid over the t1 positions pruned by each cell's nearest point and
         lowest price): the 16 cheapest pairs of every row that breaks it join the graph
         and the auction goes on, until no row does.  eps-CS on all pairs bounds the
-        summed distance above the minimum by N eps, eps = 1e-14 of the bed size
-        (0.5 nm in total at 80,000 particles in a 0.6 m drum; the optimum of a sparse
+        summed distance above the minimum by N (eps + a margin for the round-off of
+        the prices), eps = 1e-14 of the bed size (2.0e-9 m in total at 80,000 particles in
+        a 0.6 m drum; the optimum of a sparse
         graph alone is not enough: after one turn of that drum, the 8-nearest graph
         made whole by the matching of its unmatched rows has its optimum at 1,455.9 m,
         the certified one is 1,232.6 m).  ``auto``: dense up to :data:`DENSE_PAIRING_MAX`
@@ -126,9 +127,10 @@ def _sparse_pairing(x0, x1, k, info=None):
     from scipy.spatial import cKDTree
     n = len(x0)
     scale = float(np.ptp(np.vstack([x0, x1]), axis=0).max()) or 1.0
-    # the last auction phase's eps: the certified gap to the optimum is at most n eps;
-    # 1e-14 of the bed size is ~50 ulps of a price of the bed size (a raise too small to
-    # change a price moves it by one ulp instead: the auction always ends)
+    # the last auction phase's eps: the certified gap to the optimum is at most n eps
+    # (plus the margin below); 1e-14 of the bed size is ~50 ulps of a price of the bed size
+    # and ~2 of the largest price level on the 80,000-particle drum (~19 m, from its gap
+    # bound); a raise too small to change a price moves it by one ulp: the auction ends
     eps = 1e-14 * scale
     _, j = cKDTree(x1).query(x0, k=k)
     _, i = cKDTree(x0).query(x1, k=k)
@@ -236,45 +238,43 @@ def _auction(indptr, indices, cost, price, sigma, eps0, eps_final, factor):
         sigma[:] = -1
 
 
-@njit
-def _cell_of(x, lo, h, dims):
-    i = min(max(int((x[0] - lo[0]) / h), 0), dims[0] - 1)
-    j = min(max(int((x[1] - lo[1]) / h), 0), dims[1] - 1)
-    k = min(max(int((x[2] - lo[2]) / h), 0), dims[2] - 1)
-    return (i * dims[1] + j) * dims[2] + k
-
-
 @pjit
-def _cheapest(rows, x0, xs, order, start, pmin, lo, h, dims, price, low, out_b):
-    """For each row a = rows[r]: the m = out_b.shape[1] columns b of lowest
-    |x0[a] - x1[b]| + price[b] below low[a] (out_b[r], -1 where fewer)."""
+def _cheapest(x0, xs, order, start, pmin, lo, cs, dims, price, low, out_b):
+    """For each row a: the m = out_b.shape[1] columns b of lowest
+    |x0[a] - x1[b]| + price[b] below low[a] (out_b[a], -1 where fewer).  ``xs``, ``order``,
+    ``start``: the t1 positions binned by cell (:func:`gsi.dem.neighbour.bin_cells`);
+    ``cs``: the cell sizes; a cell is skipped when its nearest point plus its lowest price
+    ``pmin`` cannot beat the row's bound."""
     m = out_b.shape[1]
     p_lo = np.inf
     for c in range(pmin.shape[0]):
         p_lo = min(p_lo, pmin[c])
-    for r in prange(rows.shape[0]):
-        a = rows[r]
+    for a in prange(x0.shape[0]):
         best = np.full(m, np.inf)
         for s in range(m):
-            out_b[r, s] = -1
+            out_b[a, s] = -1
         rad = low[a] - p_lo
         if rad < 0.0:
             continue
         lo_i = np.empty(3, np.int64)
         hi_i = np.empty(3, np.int64)
-        for d in range(3):
-            lo_i[d] = min(max(int(math.floor((x0[a, d] - rad - lo[d]) / h)), 0), dims[d] - 1)
-            hi_i[d] = min(max(int(math.floor((x0[a, d] + rad - lo[d]) / h)), 0), dims[d] - 1)
+        for d in range(3):              # clamped as floats: rad / cs may be huge
+            lo_i[d] = int(min(max(math.floor((x0[a, d] - rad - lo[d]) / cs[d]), 0.0),
+                              dims[d] - 1.0))
+            hi_i[d] = int(min(max(math.floor((x0[a, d] + rad - lo[d]) / cs[d]), 0.0),
+                              dims[d] - 1.0))
         for i in range(lo_i[0], hi_i[0] + 1):
-            dx = max(lo[0] + i * h - x0[a, 0], 0.0, x0[a, 0] - lo[0] - (i + 1) * h)
+            dx = max(lo[0] + i * cs[0] - x0[a, 0], 0.0, x0[a, 0] - lo[0] - (i + 1) * cs[0])
             for j in range(lo_i[1], hi_i[1] + 1):
-                dy = max(lo[1] + j * h - x0[a, 1], 0.0, x0[a, 1] - lo[1] - (j + 1) * h)
+                dy = max(lo[1] + j * cs[1] - x0[a, 1], 0.0, x0[a, 1] - lo[1] - (j + 1) * cs[1])
                 for k in range(lo_i[2], hi_i[2] + 1):
                     c = (i * dims[1] + j) * dims[2] + k
                     if start[c] == start[c + 1]:
                         continue
-                    dz = max(lo[2] + k * h - x0[a, 2], 0.0, x0[a, 2] - lo[2] - (k + 1) * h)
-                    if math.sqrt(dx * dx + dy * dy + dz * dz) + pmin[c] >= min(low[a], best[m - 1]):
+                    dz = max(lo[2] + k * cs[2] - x0[a, 2], 0.0,
+                             x0[a, 2] - lo[2] - (k + 1) * cs[2])
+                    bound = min(low[a], best[m - 1])
+                    if math.sqrt(dx * dx + dy * dy + dz * dz) + pmin[c] >= bound:
                         continue
                     for q in range(start[c], start[c + 1]):
                         ex = x0[a, 0] - xs[q, 0]
@@ -285,26 +285,29 @@ def _cheapest(rows, x0, xs, order, start, pmin, lo, h, dims, price, low, out_b):
                             s = m - 1
                             while s > 0 and best[s - 1] > v:
                                 best[s] = best[s - 1]
-                                out_b[r, s] = out_b[r, s - 1]
+                                out_b[a, s] = out_b[a, s - 1]
                                 s -= 1
                             best[s] = v
-                            out_b[r, s] = order[q]
+                            out_b[a, s] = order[q]
 
 
 class _PriceGrid:
-    """The t1 positions in cubic cells (about 4 per cell), for the queries
-    |x0[a] - x1[b]| + price[b] <= level over all b at once."""
+    """The t1 positions in the cells of :func:`gsi.dem.neighbour.grid_for` (about 4 per
+    cell), for the queries |x0[a] - x1[b]| + price[b] < level[a] over all b at once."""
 
     def __init__(self, x1):
+        from gsi.dem.neighbour import bin_cells, cell_index, grid_for
         n = len(x1)
         self.lo = x1.min(axis=0)
-        span = np.maximum(x1.max(axis=0) - self.lo, 1e-300)
-        self.h = float(np.cbrt(np.prod(np.maximum(span, span.max() * 1e-3)) * 4.0 / n))
-        self.dims = np.maximum(np.ceil(span / self.h).astype(np.int64), 1)
-        cell = _cells(x1, self.lo, self.h, self.dims)
-        self.order = np.argsort(cell, kind="stable")
-        self.cell = cell
-        self.start = np.searchsorted(cell[self.order], np.arange(np.prod(self.dims) + 1))
+        hi = x1.max(axis=0)
+        # a flat set (all at one height, say) gets cells 1e-3 of its size across it
+        span = np.maximum(hi - self.lo, max((hi - self.lo).max() * 1e-3, 1e-12))
+        h = float(np.cbrt(np.prod(span) * 4.0 / n))
+        self.dims, inv_cs = grid_for(self.lo, self.lo + span, h, n)
+        self.cs = 1.0 / inv_cs
+        self.cell = np.empty(n, np.int64)
+        cell_index(n, x1, self.lo, inv_cs, self.dims, self.cell)
+        self.start, self.order = bin_cells(n, self.cell, int(self.dims.prod()))
         self.xs = np.ascontiguousarray(x1[self.order])
 
     def cheaper(self, x0, price, level, m):
@@ -312,22 +315,11 @@ class _PriceGrid:
         its m columns of lowest such value (rows, (len(rows), m) columns, -1 where fewer)."""
         pmin = np.full(len(self.start) - 1, np.inf)
         np.minimum.at(pmin, self.cell, price)
-        args = (x0, self.xs, self.order, self.start, pmin, self.lo, self.h, self.dims, price,
-                level)
-        one = np.empty((len(x0), 1), np.int64)        # the cheapest, where there is one
-        _cheapest(np.arange(len(x0)), *args, one)
-        rows = np.flatnonzero(one[:, 0] >= 0)
-        cols = np.empty((len(rows), m), np.int64)
-        _cheapest(rows, *args, cols)
-        return rows, cols
-
-
-@njit
-def _cells(x, lo, h, dims):
-    out = np.empty(x.shape[0], np.int64)
-    for q in range(x.shape[0]):
-        out[q] = _cell_of(x[q], lo, h, dims)
-    return out
+        cols = np.empty((len(x0), m), np.int64)
+        _cheapest(x0, self.xs, self.order, self.start, pmin, self.lo, self.cs, self.dims,
+                  price, level, cols)
+        rows = np.flatnonzero(cols[:, 0] >= 0)
+        return rows, cols[rows]
 
 
 def pairing_cost(x0, x1, sigma) -> float:
