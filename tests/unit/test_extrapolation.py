@@ -64,39 +64,23 @@ def test_sparse_pairing_when_the_bed_changes_shape():
 
 
 def test_sparse_pairing_of_a_bed_that_flowed():
-    """1,500 particles of a bed whose top layer slid to one side (a drum's surface after
-    a turn): the sparse pairing's summed distance equals the dense optimum's and is far
-    below the optimum of the first sparse graph alone."""
-    from scipy.sparse import csr_matrix
-    from scipy.sparse.csgraph import min_weight_full_bipartite_matching
-    from scipy.spatial import cKDTree
+    """1,500 particles of a bed whose top two layers heaped up to one side (a drum's
+    surface after a turn): the first graph's auction breaks eps-CS somewhere (more than
+    one round), and the grown graph's summed distance equals the dense optimum's."""
     rng = np.random.default_rng(7)
     g = np.stack(np.meshgrid(np.arange(20), np.arange(15), np.arange(5), indexing="ij"),
                  -1).reshape(-1, 3) * 0.01
     x0 = g + rng.normal(0, 0.001, g.shape)
     top = g[:, 2] >= 0.03
-    # the top two layers heap up on the high-x side: a wedge instead of a flat layer
     x1 = g.astype(float).copy()
-    x1[top, 2] += 0.02 * (g[top, 0] / 0.19 - 0.5)
+    x1[top, 2] += 0.02 * (g[top, 0] / 0.19 - 0.5)     # a wedge instead of a flat layer
     x1 = x1[rng.permutation(len(g))] + rng.normal(0, 0.001, g.shape)
-    n, k = len(g), 4
     dense = pairing_cost(x0, x1, pair_particles(x0, x1, method="dense"))
     info = {}
-    sparse = pair_particles(x0, x1, method="sparse", k=k, info=info)
-    assert pairing_cost(x0, x1, sparse) == pytest.approx(dense, rel=1e-12)
-    _, j = cKDTree(x1).query(x0, k=k)
-    _, i = cKDTree(x0).query(x1, k=k)
-    a = np.concatenate([np.repeat(np.arange(n), k), i.reshape(-1),
-                        np.argsort(x0[:, 2], kind="stable")])
-    b = np.concatenate([j.reshape(-1), np.repeat(np.arange(n), k),
-                        np.argsort(x1[:, 2], kind="stable")])
-    keys = np.unique(a * n + b)
-    a, b = keys // n, keys % n
-    G = csr_matrix((np.linalg.norm(x0[a] - x1[b], axis=1), (a, b)), shape=(n, n))
-    rows, cols = min_weight_full_bipartite_matching(G)
-    first = float(G[rows, cols].sum())
+    sparse = pair_particles(x0, x1, method="sparse", k=4, info=info)
     assert info["rounds"] > 1
-    assert first > dense * (1 + 1e-6)
+    assert np.array_equal(np.sort(sparse), np.arange(len(g)))
+    assert pairing_cost(x0, x1, sparse) == pytest.approx(dense, rel=1e-12)
 
 
 def fake_log(rng, n=40, rows=3000, *, dur=5, dt=1e-4, C=1.0, walls=False):
