@@ -217,7 +217,8 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     flags and the steps done are written to ``state`` (crash-safe: a temporary file
     renamed over it), and a run that finds the file resumes from it, bit-identically to
     an uninterrupted set-up (the simulation is rebuilt the same way); a file written for
-    another drum, settle, spin-up or seed is refused. ``say(msg)`` gets a line per chunk.
+    another drum, settle, seed or skin is refused; one written for fewer spin-up turns is
+    extended (it is this set-up's prefix). ``say(msg)`` gets a line per chunk.
     ``timing`` (a dict), if given, receives ``spin_seconds`` and ``spin_steps``: the wall
     seconds and steps of the turning drum, summed over all the runs that made this
     set-up (kept in the state file), so the spin-up's own rate can be reported.
@@ -247,14 +248,19 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     if path is not None and path.exists():
         from gsi.checkpoint import read_npz
         d = read_npz(path)
-        if not np.array_equal(d["drum.key"], key):
+        old = np.asarray(d["drum.key"])
+        done = int(d["drum.done"])
+        # a set-up of fewer spin-up turns is this one's prefix (the set-up is deterministic
+        # and a step does not depend on the total): it is extended
+        prefix = (old.shape == key.shape and np.array_equal(np.delete(old, 3), np.delete(key, 3))
+                  and done <= n_total)
+        if not prefix:
             raise GsiInputError(
                 f"state = {str(path)!r} was written for another drum set-up (particles, "
                 f"steps per turn, settle and total steps, seed, skin in nm = "
                 f"{d['drum.key'].tolist()}, "
                 f"this one {key.tolist()}); remove it or give another path")
         sim.set_state({k: v for k, v in d.items() if not k.startswith("drum.")})
-        done = int(d["drum.done"])
         spin = np.array(d["drum.spin"], float)
         if done >= n_settle:
             hot = np.array(d["drum.hot"], bool)

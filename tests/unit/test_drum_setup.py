@@ -1,6 +1,7 @@
 """The drum's set-up before t0 (gsi.drum.prepare) spread over several runs: saved every
 ``chunk`` steps, resumed after an interruption, and bit-identical to one uninterrupted
-set-up; a state file of another set-up is refused with a one-line error."""
+set-up; a state file of another set-up is refused with a one-line error, and one of
+fewer spin-up turns is extended."""
 import numpy as np
 import pytest
 
@@ -46,6 +47,24 @@ def test_interrupted_setup_resumes_bit_identically(tmp_path):
 def test_state_of_another_setup_refused(tmp_path):
     g = drum_geometry(200)
     path = tmp_path / "setup.npz"
-    prepare(g, settle=0.02, spin_up=0.01, state=path, chunk=1000)
+    prepare(g, settle=0.02, spin_up=0.02, state=path, chunk=1000)
     with pytest.raises(GsiInputError, match="another drum set-up"):
-        prepare(g, settle=0.02, spin_up=0.02, state=path)
+        prepare(g, settle=0.03, spin_up=0.02, state=path)
+    # a file that went past this set-up's t0 is not its prefix
+    with pytest.raises(GsiInputError, match="another drum set-up"):
+        prepare(g, settle=0.02, spin_up=0.01, state=path)
+
+
+def test_shorter_spin_up_is_extended_bit_identically(tmp_path):
+    g = drum_geometry(200)
+    ref, hot_ref, _ = prepare(g, settle=0.02, spin_up=0.04)
+    path = tmp_path / "setup.npz"
+    prepare(g, settle=0.02, spin_up=0.02, state=path, chunk=100)
+    said = []
+    sim, hot, _ = prepare(g, settle=0.02, spin_up=0.04, state=path, chunk=100,
+                          say=said.append)
+    assert "resumed the set-up at step" in said[0]
+    assert sim.step_count == ref.step_count and sim.step_count > 0
+    for name in ("x", "v", "omega", "T"):
+        assert np.array_equal(getattr(sim, name), getattr(ref, name)), name
+    assert np.array_equal(hot, hot_ref)
