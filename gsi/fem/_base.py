@@ -36,8 +36,10 @@ from __future__ import annotations
 
 import itertools
 import os
+import shutil
 import tempfile
 import time
+import weakref
 
 import numpy as np
 from mpi4py import MPI
@@ -383,6 +385,40 @@ class FactorOnceSolver(LinearSolver):
             pc.setFactorSolverType("superlu_dist")
 
 
+_SCRATCH_PREFIX = "gsi-mumps-"
+
+
+def _scratch_dir() -> str:
+    """A new directory for MUMPS's out-of-core files of one solver, under
+    $MUMPS_OOC_TMPDIR or the system's temporary directory; the directories left there by
+    killed gsi processes of this host are removed first."""
+    import socket
+    root = os.environ.get("MUMPS_OOC_TMPDIR") or tempfile.gettempdir()
+    host = socket.gethostname().replace("-", "_")
+    prefix = f"{_SCRATCH_PREFIX}{host}-"
+    try:
+        names = os.listdir(root)
+    except OSError:
+        names = []
+    for name in names:
+        if not name.startswith(prefix):
+            continue
+        pid = name[len(prefix):].split("-", 1)[0]
+        if pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid)):
+            shutil.rmtree(os.path.join(root, name), ignore_errors=True)
+    return tempfile.mkdtemp(prefix=f"{prefix}{os.getpid()}-", dir=root)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
 class OutOfCoreSolver(LinearSolver):
     """Direct solver with its factor on disk: MUMPS Cholesky, factorized once.
 
@@ -390,8 +426,12 @@ class OutOfCoreSolver(LinearSolver):
     see benchmarks/fe_scale.py): MUMPS's out-of-core mode (Amestoy et al., MUMPS users'
     guide, ICNTL(22) = 1) writes the factor to files while it factorizes and reads it back
     at every solve, so memory holds the matrix and the active fronts only. The files go to
-    ``$MUMPS_OOC_TMPDIR``, set here to the system's temporary directory (``$TMPDIR``,
-    else /tmp) when unset, and are removed with the solver. Unlike the in-memory direct
+    a directory of this solver's own (``scratch_dir``: ``gsi-mumps-<host>-<pid>-*``)
+    under ``$MUMPS_OOC_TMPDIR`` if set, else the system's temporary directory (``$TMPDIR``,
+    else /tmp). The directory is removed with the solver, when it is garbage-collected or
+    at the interpreter's exit (PETSc does not destroy the objects alive at its end, and
+    MUMPS removes its files only then); the directories of killed runs (their process gone,
+    same host) are removed by the next out-of-core solver that starts. Unlike the in-memory direct
     solver on several ranks (SuperLU_DIST), MUMPS's distributed factorization is not
     bit-reproducible from run to run (see :class:`FactorOnceSolver`): the fields agree to
     round-off. ``petsc_options`` override the defaults
@@ -404,12 +444,31 @@ class OutOfCoreSolver(LinearSolver):
                  petsc_options=None, options_key: str = "structure.petsc"):
         super().__init__(A, comm, problem=problem, petsc_options=petsc_options,
                          options_key=options_key)
-        if not os.environ.get("MUMPS_OOC_TMPDIR"):
-            os.environ["MUMPS_OOC_TMPDIR"] = tempfile.gettempdir()
+        self.scratch_dir = _scratch_dir()
+        self._remove_scratch = weakref.finalize(self, shutil.rmtree, self.scratch_dir,
+                                                ignore_errors=True)
         self._configure_scratch(self.ksp)
         self.ksp.getPC().setReusePreconditioner(True)
         self._set_options({k: v for k, v in OUT_OF_CORE_DEFAULTS.items()
                            if k.startswith("mat_mumps")})
+
+    def factorize(self) -> None:
+        # MUMPS reads $MUMPS_OOC_TMPDIR when it factorizes: this solver's own directory
+        if self._ready:
+            return
+        before = os.environ.get("MUMPS_OOC_TMPDIR")
+        os.environ["MUMPS_OOC_TMPDIR"] = self.scratch_dir
+        try:
+            super().factorize()
+        finally:
+            if before is None:
+                del os.environ["MUMPS_OOC_TMPDIR"]
+            else:
+                os.environ["MUMPS_OOC_TMPDIR"] = before
+
+    def destroy(self) -> None:
+        super().destroy()
+        self._remove_scratch()
 
     def _configure_scratch(self, ksp) -> None:
         ksp.setType(OUT_OF_CORE_DEFAULTS["ksp_type"])

@@ -48,8 +48,9 @@ AUTO_LARGE_SOLVER = {"elasticity": "out_of_core", "heat": "iterative"}
 #: gsi's PETSc defaults of the out-of-core direct solver (``petsc_options`` override them):
 #: MUMPS Cholesky (the effective matrices of gsi's problems are symmetric positive
 #: definite), METIS nested-dissection ordering, the factor
-#: written to files under $MUMPS_OOC_TMPDIR (else the system's temporary directory) and
-#: removed when the solver is destroyed (a killed run leaves them there: mumps_* files).
+#: written to files in a directory of the solver's own under $MUMPS_OOC_TMPDIR (else the
+#: system's temporary directory), removed with the solver or at exit (a killed run's
+#: directory by the next out-of-core solver on that host).
 OUT_OF_CORE_DEFAULTS = {"ksp_type": "preonly", "pc_type": "cholesky",
                         "pc_factor_mat_solver_type": "mumps", "mat_mumps_icntl_7": "5",
                         "mat_mumps_icntl_22": "1"}

@@ -6,6 +6,12 @@ The iterative solver stops at ||b - A x|| <= 1e-12 ||b - A x_0||, x_0 the last s
 (gsi.fem.options.ITERATIVE_RTOL); its answers agree with the direct solver's to about that tolerance times the conditioning
 of these small problems, asserted here at 1e-8 of the largest value.
 """
+import os
+import pathlib
+import socket
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from petsc4py import PETSc
@@ -95,14 +101,57 @@ def test_out_of_core_factor_is_on_disk_while_it_lives(slab, tmp_path, monkeypatc
     p.clamp("support")
     p.set_traction("contact", [0.0, 0.0, -2.0e4])
     p.step()
-    files = list(tmp_path.glob("mumps_*"))
+    files = list(tmp_path.glob("gsi-mumps-*/mumps_*"))      # in the solver's own directory
     assert files and sum(f.stat().st_size for f in files) > 1e5      # the factor, in bytes
+    assert [f.parent for f in files] == [pathlib.Path(p._solver.scratch_dir)] * len(files)
     assert p._solver.describe() == "preonly + cholesky"
     factor = p._solver.ksp.getPC().getFactorMatrix()
     assert factor.getMumpsIcntl(22) == 1 and factor.getMumpsIcntl(7) == 5
     del factor                                   # the last reference is the solver's
     p._solver.destroy()
-    assert not list(tmp_path.glob("mumps_*"))
+    assert not list(tmp_path.iterdir())
+    assert os.environ["MUMPS_OOC_TMPDIR"] == str(tmp_path)        # the user's, restored
+
+
+_OOC_SCRIPT = """
+import meshes
+from gsi.fem.elasticity import Elasticity
+slab = meshes.build("membrane", shape="circle", radius=0.3, thickness=0.03, h=0.06,
+                    n_thickness=2)
+p = Elasticity(slab, "steel", degree=2, solver="out_of_core")
+p.clamp("support")
+p.set_traction("contact", [0.0, 0.0, -2.0e4])
+p.solve()
+print(p._solver.scratch_dir)
+"""
+
+
+def test_out_of_core_files_go_at_exit_and_a_killed_runs_at_the_next_start(tmp_path):
+    """A run that ends without destroying its solver (PETSc leaves live objects alone at
+    its end) leaves no factor behind; the directory of a killed process is removed by the
+    next out-of-core solver of the host, another live process's is not."""
+    env = dict(os.environ, TMPDIR=str(tmp_path), OMP_NUM_THREADS="1")
+    env.pop("MUMPS_OOC_TMPDIR", None)
+    root = pathlib.Path(__file__).resolve().parents[3]
+    run = subprocess.run([sys.executable, "-c", _OOC_SCRIPT], env=env, cwd=root,
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    used = pathlib.Path(run.stdout.strip().splitlines()[-1])
+    assert used.parent == tmp_path and used.name.startswith("gsi-mumps-")
+    assert not used.exists() and not list(tmp_path.glob("**/mumps_*"))
+    # a killed run's directory (its pid gone) and a live one's (this test's parent)
+    host = socket.gethostname().replace("-", "_")
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True).stdout.strip()
+    killed = tmp_path / f"gsi-mumps-{host}-{dead}-abc"
+    live = tmp_path / f"gsi-mumps-{host}-{os.getppid()}-abc"
+    for d in (killed, live):
+        d.mkdir()
+        (d / "mumps_0_x").write_bytes(b"0" * 1000)
+    run = subprocess.run([sys.executable, "-c", _OOC_SCRIPT], env=env, cwd=root,
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert not killed.exists() and (live / "mumps_0_x").exists()
 
 
 def test_iterative_builds_its_preconditioner_once_and_warm_starts(slab):
