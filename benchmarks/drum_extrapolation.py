@@ -25,8 +25,10 @@ Usage::
 
 The set-up before t0 (fill, settle, one turn) is most of the DEM of a run at 80,000
 particles; ``--state PATH`` saves it every 5,000 steps and resumes it, so it may be
-spread over several runs (``--setup-only`` stops at t0); the measured part (the logged
-period, the reference periods, pairing and replay) always runs whole, in one process.
+spread over several runs (``--setup-only`` stops at t0), and a state of fewer spin-up
+turns is extended to ``--spin-up`` (copy the file first to keep it); the measured part
+(the logged period, the reference periods, pairing and replay) always runs whole, in one
+process.
 
 ``--quick`` is the CI size, 5,000 particles.  Times are wall-clock seconds and, as the
 machine may be shared, process CPU seconds (with ``--threads 1`` the CPU time of the one
@@ -56,7 +58,8 @@ def main(argv=None):
     ap.add_argument("--state", default=None,
                     help="a .npz path: the set-up (fill, settle, spin-up) is saved there every "
                          "5,000 steps and resumed from it, so it can be spread over several "
-                         "runs (gsi.drum.prepare); the measured part always runs whole")
+                         "runs (gsi.drum.prepare); a state of fewer spin-up turns is "
+                         "extended; the measured part always runs whole")
     ap.add_argument("--skin", type=float, default=None,
                     help="Verlet skin in particle radii (default gsi's 0.4; neighbour lists "
                          "only: results agree to round-off)")
