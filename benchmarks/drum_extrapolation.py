@@ -69,6 +69,8 @@ def main(argv=None):
                     help="directory for the collision files and reference.npz (the full DEM "
                          "and the replays at every t_n)")
     args = ap.parse_args(argv)
+    if args.out:          # made now: a path that cannot be made fails before the hour of DEM
+        os.makedirs(args.out, exist_ok=True)
     import numba
     import numpy as np
     if args.threads:

@@ -885,6 +885,7 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
         run["same_t1"] = bool(np.array_equal(log.T1, dem["T1"]))
         if log_dir is not None:
             path = pathlib.Path(log_dir) / f"contact_log_every{every}.npz"
+            path.parent.mkdir(parents=True, exist_ok=True)
             t = time.perf_counter()
             run["file_bytes"] = log.save(path)
             run["file_seconds"] = time.perf_counter() - t
