@@ -64,8 +64,8 @@ def main(argv=None):
                     help="Verlet skin in particle radii (default gsi's 0.4; neighbour lists "
                          "only: results agree to round-off)")
     ap.add_argument("--halves-at-t0", action="store_true",
-                    help="set the hot (x < 0) and cold halves at t0 instead of at the end of "
-                         "the settling (gsi.drum's t_init), so the bed has not mixed its heat "
+                    help="set the hot (x below the median) and cold halves of the particles "
+                         "at t0 instead of at the end of the settling (gsi.drum's t_init), so the bed has not mixed its heat "
                          "during the spin-up; heat does not move particles, so the mechanics "
                          "and the contact log are the same")
     ap.add_argument("--setup-only", action="store_true",
@@ -103,11 +103,14 @@ def main(argv=None):
               f"{spin_s:.1f} s per turn", flush=True)
     if args.halves_at_t0:
         from gsi.drum import T_COLD, T_HOT
+        # the turning bed leans to the rising side: two halves of the particles, split at
+        # their median x (at the end of the settling that is x = 0)
+        x_mid = float(np.median(sim.x[:, 0]))
         hot = np.zeros_like(hot)
-        hot[sim.ids] = sim.x[:, 0] < 0.0
+        hot[sim.ids] = sim.x[:, 0] < x_mid
         sim.T[:] = np.where(hot[sim.ids], T_HOT, T_COLD)
-        print(f"halves set at t0: {int(hot.sum())} hot (x < 0) at {T_HOT} K, "
-              f"{int((~hot).sum())} cold at {T_COLD} K", flush=True)
+        print(f"halves set at t0: {int(hot.sum())} hot (x < {x_mid:.4g} m, the median) at "
+              f"{T_HOT} K, {int((~hot).sum())} cold at {T_COLD} K", flush=True)
     if args.setup_only:
         line = f"particles={n} t0={sim.time:.6g}"
         if timing.get("spin_steps"):
