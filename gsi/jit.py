@@ -35,3 +35,16 @@ def pjit(*args, **kwargs):
 
 
 prange = range if DISABLE_JIT else numba.prange
+
+
+def _trailing_zeros_py(x):
+    """Index of the lowest set bit of an integer > 0 (plain Python)."""
+    x = int(x)
+    return (x & -x).bit_length() - 1
+
+
+if DISABLE_JIT:
+    trailing_zeros = _trailing_zeros_py
+else:
+    # LLVM's cttz: the count of trailing zero bits (one instruction on x86-64)
+    from numba.cpython.unsafe.numbers import trailing_zeros  # noqa: E402,F401

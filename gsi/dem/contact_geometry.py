@@ -17,6 +17,13 @@ from gsi.jit import njit
 
 
 @njit
+def spheres_touch(L2, rs):
+    """Two spheres at squared centre distance L2 with radii summing to rs overlap (and do
+    not coincide); without a branch (``&``, not ``and``), for the pair loop's first pass."""
+    return (L2 < rs * rs) & (L2 != 0.0)
+
+
+@njit
 def sphere_pair(dx, dy, dz, ri, rj):
     """Contact of sphere i with sphere j at centre offset d = x_j - x_i.
 
@@ -35,7 +42,7 @@ def sphere_pair(dx, dy, dz, ri, rj):
     """
     L2 = dx * dx + dy * dy + dz * dz
     rs = ri + rj
-    if L2 >= rs * rs or L2 == 0.0:
+    if not spheres_touch(L2, rs):
         return False, L2, 0.0, 0.0, 0.0, 0.0, 0.0
     L = math.sqrt(L2)
     inv_L = 1.0 / L
