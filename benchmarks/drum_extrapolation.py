@@ -11,8 +11,10 @@ Prints the set-up (size, Froude number and regime), the DEM seconds per period, 
 sampling the collision-file seconds (the logged DEM period), its size and bytes per
 collision, the pairing seconds, the replay seconds per period, the speed-up per period
 and the errors per period (eq. 9 absolute and relative on 200 Voronoi cells, and on
-N/400 cells -- 400 particles per cell, as the seed's 80,000 in 200 --, eq. 10, the
-drift of sum m c_p T); the last line holds ``particles= dem_s_per_period=
+N/400 cells -- 400 particles per cell, as the seed's 80,000 in 200 --, each beside its
+sampling level, the eq.-9 error of two fields with the same temperatures in each cell but
+not the same particles (gsi.extrapolation.cell_sampling_level), eq. 10, the drift of
+sum m c_p T); the last line holds ``particles= dem_s_per_period=
 extrap_s_per_period= speedup_per_period= eps_abs_max= eps_rel_max= energy_err_max=``
 (the sampling with the largest every; the error maxima over all samplings and periods)
 and the other figures.
@@ -157,13 +159,15 @@ def main(argv=None):
         e400 = period_errors(log, {"T": run["T"], "x": run["x"]}, dem["T"], dem["x"], seeds,
                              hot[log.ids])
         run["eps_abs_400"], run["eps_rel_400"] = e400["eps_abs"], e400["eps_rel"]
+        run["eps_level_400"] = e400["eps_level"]
         for k in range(args.periods):
-            print(f"  t{k + 2}: eps_abs {run['eps_abs'][k]:.4f} K, eps_rel "
+            print(f"  t{k + 2}: eps_abs {run['eps_abs'][k]:.4f} K (sampling level "
+                  f"{run['eps_level'][k]:.4f} K), eps_rel "
                   f"{100 * run['eps_rel'][k]:.2f} %, eq. 10 {100 * run['energy_error'][k]:+.2f} %, "
                   f"drift {run['energy_drift'][k + 1]:.1e}; DEM T_hot - T_cold "
                   f"{abs(dem_gap(dem, hot, log, k + 1)):.3f} K; with {cells400} cells of 400 "
-                  f"particles: eps_abs {e400['eps_abs'][k]:.4f} K, eps_rel "
-                  f"{100 * e400['eps_rel'][k]:.2f} %")
+                  f"particles: eps_abs {e400['eps_abs'][k]:.4f} K (level "
+                  f"{e400['eps_level'][k]:.4f} K), eps_rel {100 * e400['eps_rel'][k]:.2f} %")
         last = (run, speed, speed_cpu)
     run, speed, speed_cpu = last
     runs = r["runs"]
@@ -177,6 +181,9 @@ def main(argv=None):
         energy_err_max=max(float(np.abs(x["energy_error"]).max()) for x in runs),
         eps_abs_400_max=max(float(x["eps_abs_400"].max()) for x in runs),
         eps_rel_400_max=max(float(np.nanmax(x["eps_rel_400"])) for x in runs),
+        eps_over_level_max=max(float((x["eps_abs"] / x["eps_level"]).max()) for x in runs),
+        eps_over_level_400_max=max(float((x["eps_abs_400"] / x["eps_level_400"]).max())
+                                   for x in runs),
         energy_drift_max=max(float(x["energy_drift"].max()) for x in runs),
         pairing_s=run["pairing_seconds"], replay_setup_s=run["replay_setup_seconds"],
         collision_file_s=run["log_seconds"],

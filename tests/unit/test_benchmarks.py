@@ -32,4 +32,6 @@ def test_drum_benchmark_makes_its_out_directory(tmp_path, capsys):
         assert np.array_equal(log["T0"], np.where(hot, 30.0, 10.0))
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert last.startswith("particles=200 ") and "speedup_per_period=" in last
+    # one cell of 200 particles has a sampling level; 200 cells of one particle have none
+    assert np.isfinite(res["eps_over_level_400_max"]) and "eps_over_level_max=nan" in last
     assert res["particles"] == 200 and res["energy_drift_max"] < 1e-12

@@ -8,7 +8,8 @@ import pytest
 
 from gsi.dem.contact_log import ContactLog
 from gsi.errors import GsiInputError
-from gsi.extrapolation import (Replay, cell_error, cell_means, energy_transfer_error,
+from gsi.extrapolation import (Replay, cell_error, cell_means, cell_sampling_level,
+                               energy_transfer_error,
                                pair_particles, pairing_cost, voronoi_seeds)
 
 
@@ -208,3 +209,30 @@ def test_cell_error_and_energy_transfer_error():
     assert len({tuple(p) for p in s}) == 4
     with pytest.raises(GsiInputError, match="more than the 10 particles"):
         voronoi_seeds(np.zeros((10, 3)), 11)
+
+
+def test_cell_sampling_level_is_the_error_of_independent_samples():
+    """Two fields drawn independently from the same temperature field (a left-right ramp
+    with a particle-scale scatter) differ on the cells by the sampling level; the same
+    particles differ by nothing, and a bias adds on top of the level."""
+    rng = np.random.default_rng(3)
+    n = 40_000
+
+    def draw():
+        x = rng.random((n, 3))
+        return x, 20.0 * x[:, 0] + rng.normal(0.0, 4.0, n)
+
+    x_d, T_d = draw()
+    x_e, T_e = draw()
+    seeds = voronoi_seeds(x_d, 200, seed=0)
+    level = cell_sampling_level(seeds, x_d, T_d, x_e, T_e)
+    # a cell holds ~200 particles with s >= 4 K (the scatter; the ramp adds ~2 K across a
+    # cell of volume 1/200): the level sqrt(2/pi) s sqrt(2/200) is 0.32-0.42 K
+    assert 0.32 < level < 0.42
+    eps = cell_error(seeds, x_d, T_d, x_e, T_e)[0]
+    assert eps == pytest.approx(level, rel=0.1)
+    assert cell_error(seeds, x_d, T_d, x_d, T_d)[0] == 0.0
+    assert cell_sampling_level(seeds, x_d, T_d, x_d, T_d) == pytest.approx(level, rel=0.1)
+    assert np.isnan(cell_sampling_level(x_d[:5], x_d[:5], T_d[:5], x_e[:5], T_e[:5]))
+    biased = cell_error(seeds, x_d, T_d, x_e, T_e + 1.0)[0]
+    assert biased == pytest.approx(1.0, abs=0.1) and biased > 2.5 * level
