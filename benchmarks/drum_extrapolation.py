@@ -83,7 +83,8 @@ def main(argv=None):
     if args.threads:
         numba.set_num_threads(args.threads)
     from gsi.drum import drum_geometry, prepare
-    from gsi.extrapolation import compare_with_dem, period_errors, voronoi_seeds
+    from gsi.extrapolation import (_finite_max, compare_with_dem, period_errors,
+                                   voronoi_seeds)
     n = args.particles or (5000 if args.quick else 80_000)
     g = drum_geometry(n)
     print(f"drum: {n} particles, R = {g.radius:.4g} m, L = {g.length:.4g} m, "
@@ -181,9 +182,10 @@ def main(argv=None):
         energy_err_max=max(float(np.abs(x["energy_error"]).max()) for x in runs),
         eps_abs_400_max=max(float(x["eps_abs_400"].max()) for x in runs),
         eps_rel_400_max=max(float(np.nanmax(x["eps_rel_400"])) for x in runs),
-        eps_over_level_max=max(float((x["eps_abs"] / x["eps_level"]).max()) for x in runs),
-        eps_over_level_400_max=max(float((x["eps_abs_400"] / x["eps_level_400"]).max())
-                                   for x in runs),
+        eps_over_level_max=_finite_max(np.concatenate(
+            [x["eps_abs"] / x["eps_level"] for x in runs])),
+        eps_over_level_400_max=_finite_max(np.concatenate(
+            [x["eps_abs_400"] / x["eps_level_400"] for x in runs])),
         energy_drift_max=max(float(x["energy_drift"].max()) for x in runs),
         pairing_s=run["pairing_seconds"], replay_setup_s=run["replay_setup_seconds"],
         collision_file_s=run["log_seconds"],

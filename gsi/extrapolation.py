@@ -746,6 +746,14 @@ class FEWallReplay(Replay):
         return rec
 
 
+def _finite_max(a):
+    """Largest finite value of ``a``, NaN if none (a cell level is NaN where no cell
+    holds two particles)."""
+    a = np.asarray(a, float)
+    a = a[np.isfinite(a)]
+    return float(a.max()) if a.size else math.nan
+
+
 def voronoi_seeds(x, count=200, *, seed=0):
     """``count`` seed points of the Voronoi cells of eq. 9: positions of distinct
     particles drawn at random (generator ``seed``) from ``x`` (m), so every cell lies in
@@ -1120,6 +1128,8 @@ class CaseExtrapolation:
                            speedup_per_period=self.times["dem_s_per_period"]
                            / self.times["extrap_s_per_period"],
                            eps_abs_max=float(err["eps_abs"].max()),
+                           eps_over_level_max=_finite_max(err["eps_abs"]
+                                                          / err["eps_level"]),
                            eps_rel_max=float(np.nanmax(err["eps_rel"])),
                            energy_err_max=float(np.abs(err["energy_error"]).max()),
                            energy_drift_max=float(err["energy_drift"].max()))
