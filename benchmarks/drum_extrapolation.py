@@ -23,7 +23,7 @@ Usage::
 
     python benchmarks/drum_extrapolation.py [--quick] [--particles N] [--periods P]
         [--period-turns F] [--every 1,10] [--dt-split S] [--threads T] [--out DIR]
-        [--state PATH [--setup-only]] [--halves-at-t0]
+        [--state PATH [--setup-only]] [--halves-at-t0] [--twin AMP]
 
 The set-up before t0 (fill, settle, one turn) is most of the DEM of a run at 80,000
 particles; ``--state PATH`` saves it every 5,000 steps and resumes it, so it may be
@@ -55,6 +55,10 @@ def main(argv=None):
     ap.add_argument("--every", default="1,10", help="sampling factors n (default 1,10)")
     ap.add_argument("--dt-split", type=float, default=0.01,
                     help="Delta t_c^max (s), default 0.01 (100 steps)")
+    ap.add_argument("--twin", type=float, default=None, metavar="AMP",
+                    help="also run a second DEM from t1 with every position moved by up to "
+                         "AMP m, and give eq. 9 between the two DEMs (the error that chaos "
+                         "alone makes)")
     ap.add_argument("--spin-up", type=float, default=1.0, help="turns before t0 (default 1)")
     ap.add_argument("--threads", type=int, default=None, help="numba threads (default all)")
     ap.add_argument("--state", default=None,
@@ -125,7 +129,7 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         out = args.out or tmp
         r = compare_with_dem(sim, period_steps=steps, periods=args.periods,
-                             samplings=samplings, hot=hot, log_dir=out,
+                             samplings=samplings, hot=hot, log_dir=out, twin=args.twin,
                              say=lambda m: print("  " + m, flush=True))
     dem = r["dem"]
     if args.out:
@@ -137,6 +141,12 @@ def main(argv=None):
         np.savez(os.path.join(args.out, "reference.npz"), **arrays)
     print(f"DEM: {dem['seconds']:.2f} s per period ({dem['cpu']:.2f} s CPU; {steps} "
           f"steps); sum m c_p T drift {dem['energy_drift'].max():.2e}")
+    tw = dem.get("twin")
+    if tw is not None:
+        for k in range(args.periods):
+            print(f"  twin DEM (positions at t1 moved by up to {tw['amplitude']:.3g} m), "
+                  f"t{k + 2}: eps_abs {tw['eps_abs'][k]:.4f} K against the DEM (sampling "
+                  f"level {tw['eps_level'][k]:.4f} K)")
     last = None
     for run in r["runs"]:
         log = run["log"]
@@ -192,6 +202,8 @@ def main(argv=None):
         collision_file_mb=run["file_bytes"] / 1e6,
         bytes_per_collision=run["log"].bytes_per_collision(), every=run["every"],
         dt_split=run["dt_split"], periods=args.periods, period_turns=args.period_turns)
+    if tw is not None:
+        res["twin_eps_abs_max"] = float(tw["eps_abs"].max())
     if timing.get("spin_steps"):
         res["spin_s_per_turn"] = spin_s
     print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"

@@ -869,7 +869,7 @@ def period_errors(log, res, T_dem, x_dem, seeds, hot):
 
 
 def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=None,
-                     cells=200, seed=0, log_dir=None, say=None):
+                     cells=200, seed=0, log_dir=None, twin=None, say=None):
     """Extrapolate from one logged period of ``sim`` and compare with its own full DEM.
 
     From the state of ``sim`` (t0): for each ``(every, dt_split)`` of ``samplings``, log
@@ -885,11 +885,18 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
     eq. 10 from t_n to t_{n+1}; the drift of sum C T of the replay and of the DEM
     relative to its value at t1.
 
+    ``twin`` (m): also run a second DEM from the state at t1 with every position moved by
+    a random amount up to ``twin`` in each coordinate, and give eq. 9 between the two
+    DEMs at each t_{n+1} (``dem["twin"]``: ``eps_abs``, ``eps_level``): the error of a
+    prediction as good as the DEM itself, which the flow's chaos alone sets (0 for
+    ``twin = 0``: the DEM is deterministic).
+
     Returns
     -------
     dict
         ``dem``: reference (``T``, ``x`` (periods + 1, N, ...) by log order, ``seconds``
-        (wall) and ``cpu`` (process CPU time) per period, ``energy_drift``); ``runs``:
+        (wall) and ``cpu`` (process CPU time) per period, ``energy_drift``, ``twin``
+        if asked); ``runs``:
         per sampling a dict with ``every``,
         ``dt_split``, ``log`` (the :class:`ContactLog`), ``log_seconds`` (the DEM period
         with the log on), ``file_bytes``, ``file_seconds``, ``pairing_seconds``,
@@ -918,19 +925,13 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
             f"{log.n_collisions} rows in {run['log_seconds']:.1f} s")
         hot_log = None if hot is None else np.asarray(hot)[log.ids]
         if dem is None:
-            rows = sim.index(log.ids)
-            T_dem = [sim.T[rows].copy()]
-            x_dem = [sim.x[rows].copy()]
+            state1 = sim.state() if twin is not None else None
             t, c = time.perf_counter(), time.process_time()
-            for p in range(periods):
-                sim.step(period_steps)
-                rows = sim.index(log.ids)
-                T_dem.append(sim.T[rows].copy())
-                x_dem.append(sim.x[rows].copy())
-                say(f"reference DEM: period {p + 1}/{periods}")
+            T_dem, x_dem = _dem_periods(sim, log.ids, period_steps, periods,
+                                        lambda p: say(f"reference DEM: period {p}/{periods}"))
             C = log.heat_capacity
             E = np.array([float(C @ T) for T in T_dem])
-            dem = {"T": np.array(T_dem), "x": np.array(x_dem),
+            dem = {"T": T_dem, "x": x_dem,
                    "seconds": (time.perf_counter() - t) / periods,
                    "cpu": (time.process_time() - c) / periods,
                    "energy_drift": np.abs(E - E[0]) / abs(E[0]), "T1": log.T1}
@@ -959,7 +960,37 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
         say(f"every = {every}: eps_abs max {run['eps_abs'].max():.3g} K, eps_rel max "
             f"{np.nanmax(run['eps_rel']):.3g}, eq. 10 max "
             f"|{np.abs(run['energy_error']).max():.3g}|")
+    if twin is not None:
+        # a second DEM from t1, every position moved by up to ``twin`` (m): as valid a
+        # run as the reference, and as far from it after a period as chaos alone makes it
+        sim.set_state(state1)
+        rng = np.random.default_rng(seed)
+        sim.x[:] += rng.uniform(-twin, twin, sim.x.shape)
+        T_tw, x_tw = _dem_periods(sim, log.ids, period_steps, periods,
+                                  lambda p: say(f"twin DEM: period {p}/{periods}"))
+        dem["twin"] = {
+            "amplitude": twin,
+            "eps_abs": np.array([cell_error(seeds, dem["x"][n], dem["T"][n], x_tw[n],
+                                            T_tw[n])[0] for n in range(1, periods + 1)]),
+            "eps_level": np.array([cell_sampling_level(seeds, dem["x"][n], dem["T"][n],
+                                                       x_tw[n], T_tw[n])
+                                   for n in range(1, periods + 1)])}
     return {"dem": dem, "runs": runs, "seeds": seeds}
+
+
+def _dem_periods(sim, ids, period_steps, periods, say):
+    """Temperatures and positions of the particles ``ids`` (in that order) now and after
+    each of ``periods`` periods of DEM: two arrays (periods + 1, N[, 3])."""
+    rows = sim.index(ids)
+    T = [sim.T[rows].copy()]
+    x = [sim.x[rows].copy()]
+    for p in range(periods):
+        sim.step(period_steps)
+        rows = sim.index(ids)
+        T.append(sim.T[rows].copy())
+        x.append(sim.x[rows].copy())
+        say(p + 1)
+    return np.array(T), np.array(x)
 
 
 class CaseExtrapolation:

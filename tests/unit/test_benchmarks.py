@@ -20,7 +20,7 @@ def test_drum_benchmark_makes_its_out_directory(tmp_path, capsys):
     out = tmp_path / "not" / "yet" / "there"
     res = drum_extrapolation.main(["--particles", "200", "--periods", "1", "--every", "10",
                                    "--spin-up", "0.05", "--period-turns", "0.05",
-                                   "--halves-at-t0", "--out", str(out)])
+                                   "--halves-at-t0", "--twin", "0", "--out", str(out)])
     files = sorted(os.listdir(out))
     assert files == ["contact_log_every10.npz", "reference.npz"], files
     with np.load(out / "reference.npz") as ref:
@@ -35,3 +35,5 @@ def test_drum_benchmark_makes_its_out_directory(tmp_path, capsys):
     # one cell of 200 particles has a sampling level; 200 cells of one particle have none
     assert np.isfinite(res["eps_over_level_400_max"]) and "eps_over_level_max=nan" in last
     assert res["particles"] == 200 and res["energy_drift_max"] < 1e-12
+    # the twin DEM restarted at t1 without a move is the reference itself, bit for bit
+    assert res["twin_eps_abs_max"] == 0.0

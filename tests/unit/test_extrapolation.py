@@ -236,3 +236,20 @@ def test_cell_sampling_level_is_the_error_of_independent_samples():
     assert np.isnan(cell_sampling_level(x_d[:5], x_d[:5], T_d[:5], x_e[:5], T_e[:5]))
     biased = cell_error(seeds, x_d, T_d, x_e, T_e + 1.0)[0]
     assert biased == pytest.approx(1.0, abs=0.1) and biased > 2.5 * level
+
+
+def test_twin_dem_moves_the_positions_at_t1_and_diverges():
+    """compare_with_dem(twin=a) restarts the DEM at t1 with the positions moved by up to
+    a: with a = 1 um in a small turning drum the two runs part (eq. 9 > 0 between them),
+    but far less than the extrapolation does from the DEM over the same periods."""
+    from gsi.drum import drum_geometry, prepare
+    from gsi.extrapolation import compare_with_dem
+    g = drum_geometry(200)
+    sim, hot, _ = prepare(g, spin_up=0.05)
+    steps = int(round(0.05 * g.steps_per_turn))
+    r = compare_with_dem(sim, period_steps=steps, periods=2, samplings=((10, None),),
+                         hot=hot, cells=20, twin=1e-6)
+    tw = r["dem"]["twin"]
+    assert tw["amplitude"] == 1e-6 and tw["eps_abs"].shape == (2,)
+    assert (tw["eps_abs"] > 0).all() and np.isfinite(tw["eps_level"]).all()
+    assert tw["eps_abs"].max() < r["runs"][0]["eps_abs"].max()
