@@ -57,7 +57,8 @@ from gsi.jit import njit, pjit, prange
 
 __all__ = ["pair_particles", "pairing_cost", "Replay", "FEWallReplay", "voronoi_seeds",
            "cell_means",
-           "cell_error", "cell_sampling_level", "energy_transfer_error", "period_errors", "compare_with_dem",
+           "cell_error", "cell_sampling_level", "energy_transfer_error", "period_errors",
+           "compare_with_dem",
            "CaseExtrapolation", "DENSE_PAIRING_MAX"]
 
 #: up to this many particles ``pair_particles(method="auto")`` solves the dense
@@ -865,7 +866,8 @@ def period_errors(log, res, T_dem, x_dem, seeds, hot):
                                            res["T"][n]))
     E = res["T"] @ log.heat_capacity
     return dict(eps_abs=np.array(eps_abs), eps_rel=np.array(eps_rel),
-                eps_level=np.array(level), energy_error=np.array(eps_e), energy_drift=np.abs(E - E[0]) / abs(E[0]))
+                eps_level=np.array(level), energy_error=np.array(eps_e),
+                energy_drift=np.abs(E - E[0]) / abs(E[0]))
 
 
 def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=None,
