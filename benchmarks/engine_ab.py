@@ -52,20 +52,9 @@ def load_variant(name, template):
     return module
 
 
-def repeater(engine):
-    """A compiled loop of n force passes of ``engine`` (no Python between them)."""
-    cf = engine.contact_forces
-
-    @numba.njit
-    def rep(n, mode, dt, P, pairs, pl, M, wc, table, acc, g, lo, hi, so):
-        for _ in range(n):
-            cf(mode, dt, P, pairs, pl, M, wc, table, acc, g[0], g[1], g[2], lo, hi, 1e4, so)
-    return rep
-
-
 def main(argv):
     os.environ.setdefault("SORT", "1")     # rows in force-pass order, as benchmarks/settle.py
-    from settle_profile import make
+    from settle_profile import make, repeater
     threads = int(os.environ.get("THREADS", "1"))
     mode = int(os.environ.get("MODE", "0"))
     rounds = int(os.environ.get("ROUNDS", "15"))
