@@ -26,3 +26,5 @@ bench: setup
 
 clean:
 	rm -rf out .pytest_cache
+	find gsi benchmarks -name '*.nbi' -delete -o -name '*.nbc' -delete
+	rm -rf "$${GSI_ENGINE_DIR:-$$HOME/.cache/gsi/engines}"
