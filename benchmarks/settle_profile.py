@@ -5,8 +5,9 @@
 
 Environment: ``CLOCK=wall`` or ``CLOCK=cpu`` (default: process CPU time on one
 thread, robust on a shared machine; wall clock on more, where CPU time would count the
-threads' spinning at barriers), ``SORT=1`` sorts the particle rows (``sort_particles``).  Works with this engine and
-with the flat-argument engine of gsi d6047ed (for before/after tables).
+threads' spinning at barriers), ``SORT=1`` sorts the particle rows
+(``sort_particles``).  Works with this engine and with the flat-argument engine of gsi
+d6047ed (for before/after tables; run with that commit's ``gsi`` on ``PYTHONPATH``).
 
 Rows: the force pass of pairs alone (planes removed), plus planes, plus the fused
 integration (``contact_forces`` mode 0 without planes, mode 0, mode 2; each the best
@@ -99,15 +100,19 @@ def main():
             acc = np.zeros((nslab, len(pl_p), 7)); so = np.zeros((nslab, 3))
             n = sim.n
             flat = (n, sim.dt, x, v, w, f, tq, q, radius, mass, inertia, T, ptype, ncontact,
-                       table, slab_start, slab_list, nb_start, nb_j, hist, pact,
-                       pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask,
-                       mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
-                       mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
-                       wc_f, wc_q, wc_pt, overflow, acc, mode, g[0], g[1], g[2], fixed,
-                       mcp_inv, x0, lo, hi, 1e4, so)
-        rep = repeater(E) if new else flat_repeater(E)
-        args = (mode, sim.dt, P, pairs, pl, M, wc, sim.table, acc, g, lo, hi, so) if new \
-            else tuple(flat)
+                    table, slab_start, slab_list, nb_start, nb_j, hist, pact,
+                    pl_p, pl_n, pl_v, pl_type, pl_T, pl_hasT, pl_hist, pl_mask,
+                    mv_x, mv_v, mv_T, mt, mt_edge, mt_wall, mw_type, mw_hasT,
+                    mc_start, mc_tri, mc_hist, wc_n, wc_tri, wc_kind, wc_fid, wc_k, wc_w,
+                    wc_f, wc_q, wc_pt, overflow, acc, mode, g[0], g[1], g[2], fixed,
+                    mcp_inv, x0, lo, hi, 1e4, so)
+        if new:
+            rep = repeater(E)
+            args = (mode, sim.dt, P, pairs, pl, M, wc, sim.table, acc, g, lo, hi, so)
+            passes = lambda n: rep(n, *args)
+        else:
+            rep = flat_repeater(E)
+            passes = lambda n: rep(n, flat)
         arrs = [sim.x, sim.v, sim.omega, sim.force, sim.torque]
         arrs.append(sim.pairs.hist if new else sim._nb[4])
         saved = [a.copy() for a in arrs]
@@ -116,12 +121,12 @@ def main():
             for a, b in zip(arrs, saved):
                 a[:] = b
         restore()
-        rep(1, *args) if new else rep(1, args)        # compile
+        passes(1)                                    # compile
         best = 1e9
         for _ in range(7):
             restore()
             t0 = CLK()
-            rep(k // 7, *args) if new else rep(k // 7, args)
+            passes(k // 7)
             best = min(best, (CLK() - t0) / (k // 7))
         restore()
         return best
