@@ -48,3 +48,39 @@ if DISABLE_JIT:
 else:
     # LLVM's cttz: the count of trailing zero bits (one instruction on x86-64)
     from numba.cpython.unsafe.numbers import trailing_zeros  # noqa: E402,F401
+
+
+def _sqrt_intrinsic():
+    """``sqrt`` as LLVM's ``llvm.sqrt.f64`` (see :data:`sqrt`)."""
+    from llvmlite import ir
+    from numba import types
+    from numba.extending import intrinsic
+
+    @intrinsic
+    def sqrt(typingctx, x):
+        """Square root of a float64 (LLVM's llvm.sqrt.f64)."""
+        if not isinstance(x, types.Float):
+            return None
+
+        def codegen(context, builder, sig, args):
+            val = context.cast(builder, args[0], sig.args[0], types.float64)
+            fn = builder.module.declare_intrinsic("llvm.sqrt", [ir.DoubleType()])
+            return builder.call(fn, [val])
+        return types.float64(x), codegen
+    return sqrt
+
+
+#: the correctly rounded square root of a float64, as ``math.sqrt``, but compiled to
+#: LLVM's ``llvm.sqrt`` intrinsic instead of a call of libm's ``sqrt``: numba declares
+#: that call as reading memory (errno), so LLVM keeps a branch to it for negative
+#: arguments and cannot vectorize a loop that takes a root.  The results are the same
+#: bits (IEEE-754 square root; NaN for a negative argument, without setting errno).
+if DISABLE_JIT:
+    from math import sqrt  # noqa: E402,F401
+else:
+    sqrt = _sqrt_intrinsic()
+
+#: unsigned index of the kernels: numba's uint64 (an index numba need not test for
+#: wrap-around, see gsi/dem/engine.py); plain int without JIT, where numpy would turn
+#: ``uint64 + int`` into a float
+uint = int if DISABLE_JIT else __import__("numpy").uint64

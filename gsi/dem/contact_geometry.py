@@ -11,9 +11,7 @@ One place for the overlap, the unit normal, the lever arms and the contact radiu
 A heat model takes a^2 (:mod:`gsi.dem.heat`), so conduction, the force pass and
 :func:`heat_conductance_sum <gsi.dem.engine.heat_conductance_sum>` use the same a.
 """
-import math
-
-from gsi.jit import njit
+from gsi.jit import njit, sqrt
 
 
 @njit
@@ -41,15 +39,25 @@ def sphere_pair(dx, dy, dz, ri, rj):
         Overlap R_i + R_j - L (m).
     """
     L2 = dx * dx + dy * dy + dz * dz
-    rs = ri + rj
-    if not spheres_touch(L2, rs):
+    if not spheres_touch(L2, ri + rj):
         return False, L2, 0.0, 0.0, 0.0, 0.0, 0.0
-    L = math.sqrt(L2)
+    L2, inv_L, nx, ny, nz, delta = touching_pair(dx, dy, dz, ri, rj)
+    return True, L2, inv_L, nx, ny, nz, delta
+
+
+@njit(inline="always")
+def touching_pair(dx, dy, dz, ri, rj):
+    """:func:`sphere_pair` of two spheres known to touch, without a branch (the engine's
+    vectorized loop of laws): ``(L2, inv_L, nx, ny, nz, delta)``.  Inlined into numba's
+    IR (``inline="always"``): a separately compiled copy comes with LLVM's pairs of
+    lanes (SLP) already formed, which stop the loop vectorizer."""
+    L2 = dx * dx + dy * dy + dz * dz
+    L = sqrt(L2)
     inv_L = 1.0 / L
-    return True, L2, inv_L, dx * inv_L, dy * inv_L, dz * inv_L, rs - L
+    return L2, inv_L, dx * inv_L, dy * inv_L, dz * inv_L, (ri + rj) - L
 
 
-@njit
+@njit(inline="always")
 def pair_radius2(ri, rj, L2, inv_L):
     """Squared contact radius a^2 (m^2) of two spheres at squared centre distance L2."""
     s = (ri * ri - rj * rj + L2) * 0.5 * inv_L

@@ -5,13 +5,11 @@ a wall: its omega is not included), limited to |omega_rel| I_eff/dt so that with
 step the torque can stop the relative rotation but never reverse it (this removes the
 chatter of a pure CDT at rest).  I_eff = I_i I_j/(I_i + I_j) (kg m^2; a wall: I_i).
 """
-import math
-
-from gsi.jit import njit
+from gsi.jit import njit, sqrt
 from gsi.dem.materials import P_MUR
 
 
-@njit
+@njit(inline="always")   # into numba's IR: see gsi/dem/contact/__init__.py
 def cdt(wx, wy, wz, R_eff, F_n, tab, row, I_eff, dt):
     """Rolling-resistance torque on particle i (N m).
 
@@ -30,7 +28,7 @@ def cdt(wx, wy, wz, R_eff, F_n, tab, row, I_eff, dt):
     dt : float
         Time step (s).
     """
-    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    w = sqrt(wx * wx + wy * wy + wz * wz)
     if w == 0.0:
         return 0.0, 0.0, 0.0
     M = tab[row, P_MUR] * R_eff * abs(F_n)
@@ -41,7 +39,7 @@ def cdt(wx, wy, wz, R_eff, F_n, tab, row, I_eff, dt):
     return s * wx, s * wy, s * wz
 
 
-@njit
+@njit(inline="always")
 def no_rolling(wx, wy, wz, R_eff, F_n, tab, row, I_eff, dt):
     """No rolling resistance (zero torque)."""
     return 0.0, 0.0, 0.0

@@ -5,14 +5,12 @@ plane (its normal part removed, its length kept), then xi += v_t dt; the force i
 F_t = -k_t xi - gamma_t v_t, capped at mu |F_n|; on the cap xi = -F_t / k_t, so that the
 spring alone gives the capped force. The laws differ only in k_t and gamma_t.
 """
-import math
-
-from gsi.jit import njit
+from gsi.jit import njit, sqrt
 
 
-@njit
-def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, hist, k, dt):
-    """Tangential force on particle i (N); updates the spring ``hist[k]`` in place.
+@njit(inline="always")   # into numba's IR: see gsi/dem/contact/__init__.py
+def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, xx, xy, xz, dt):
+    """Tangential force on particle i (N) and the updated spring (m).
 
     Parameters
     ----------
@@ -26,14 +24,17 @@ def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, hist, k, 
         Tangential stiffness (N/m) and damping coefficient (N s/m, <= 0 as beta).
     mu : float
         Friction coefficient (-).
-    hist : ndarray (m, 3)
-        Tangential springs (m); row ``k`` is read and written.
+    xx, xy, xz : float
+        The spring at the last step (m).
     dt : float
         Time step (s).
+
+    Returns
+    -------
+    ftx, fty, ftz, xx, xy, xz : float
+        The force and the new spring; the caller stores the spring (the law touches no
+        memory, so a loop of laws over a batch of contacts vectorizes).
     """
-    xx = hist[k, 0]
-    xy = hist[k, 1]
-    xz = hist[k, 2]
     old2 = xx * xx + xy * xy + xz * xz
     if old2 > 0.0:
         xn = xx * nx + xy * ny + xz * nz
@@ -42,7 +43,7 @@ def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, hist, k, 
         xz -= xn * nz
         new2 = xx * xx + xy * xy + xz * xz
         if new2 > 0.0:
-            s = math.sqrt(old2 / new2)
+            s = sqrt(old2 / new2)
             xx *= s
             xy *= s
             xz *= s
@@ -58,14 +59,11 @@ def tangential_force(nx, ny, nz, vtx, vty, vtz, F_n, k_t, gamma_t, mu, hist, k, 
     ft2 = ftx * ftx + fty * fty + ftz * ftz
     cap = mu * abs(F_n)
     if ft2 > cap * cap:
-        s = cap / math.sqrt(ft2)
+        s = cap / sqrt(ft2)
         ftx *= s
         fty *= s
         ftz *= s
         xx = -ftx / k_t
         xy = -fty / k_t
         xz = -ftz / k_t
-    hist[k, 0] = xx
-    hist[k, 1] = xy
-    hist[k, 2] = xz
-    return ftx, fty, ftz
+    return ftx, fty, ftz, xx, xy, xz
