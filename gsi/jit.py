@@ -6,6 +6,7 @@ sets the thread count of ``prange`` loops.
 import os
 
 import numba
+import numpy
 
 #: run kernels as plain Python when GSI_NO_JIT=1 (slow; for debugging with pdb/prints)
 DISABLE_JIT = os.environ.get("GSI_NO_JIT", "0") == "1"
@@ -71,10 +72,10 @@ def _sqrt_intrinsic():
 
 
 #: the correctly rounded square root of a float64, as ``math.sqrt``, but compiled to
-#: LLVM's ``llvm.sqrt`` intrinsic instead of a call of libm's ``sqrt``: numba declares
-#: that call as reading memory (errno), so LLVM keeps a branch to it for negative
-#: arguments and cannot vectorize a loop that takes a root.  The results are the same
-#: bits (IEEE-754 square root; NaN for a negative argument, without setting errno).
+#: LLVM's ``llvm.sqrt`` intrinsic: numba compiles ``math.sqrt`` to a call of libm's
+#: ``sqrt`` declared as reading memory (errno), which LLVM need not widen into a vector
+#: root; the intrinsic it widens (the engine's loop of laws, gsi/dem/engine.py).  The
+#: same bits (IEEE-754 square root; NaN for a negative argument, without errno).
 if DISABLE_JIT:
     from math import sqrt  # noqa: E402,F401
 else:
@@ -83,4 +84,4 @@ else:
 #: unsigned index of the kernels: numba's uint64 (an index numba need not test for
 #: wrap-around, see gsi/dem/engine.py); plain int without JIT, where numpy would turn
 #: ``uint64 + int`` into a float
-uint = int if DISABLE_JIT else __import__("numpy").uint64
+uint = int if DISABLE_JIT else numpy.uint64
