@@ -60,7 +60,7 @@ def force_pass_seconds(sim, mode, *, mesh=True, calls=10, batches=20):
         acc = np.zeros((nslab, len(pl.point), 7))
         scan_out = np.zeros((nslab, 3))
         g = sim.g
-        _pass_loop(sim.engine.contact_forces)(
+        _pass_loop(sim.engine)(
             k, mode, sim.dt, P, pairs, pl, M, wc, sim.table, acc, g[0], g[1], g[2], sim.lo,
             sim.hi, scan_out)
     return _best_of(sim, call, calls=calls, batches=batches)
@@ -85,16 +85,21 @@ def advance_seconds(sim, *, calls=10, batches=20):
 _LOOPS = {}
 
 
-def _pass_loop(f):
-    """A compiled loop of ``k`` calls of the force pass ``f`` (one per engine)."""
+def _pass_loop(engine):
+    """A compiled loop of ``k`` calls of the engine's force pass (one per contact model)."""
     import numba
-    if f not in _LOOPS:
+    from gsi.dem.engine import contact_forces as f
+    key = tuple(engine.model)
+    if key not in _LOOPS:
+        model = engine.model
+
         @numba.njit
         def loop(k, mode, dt, P, pairs, pl, M, wc, table, acc, g0, g1, g2, lo, hi, so):
             for _ in range(k):
-                f(mode, dt, P, pairs, pl, M, wc, table, acc, g0, g1, g2, lo, hi, 1e4, so)
-        _LOOPS[f] = loop
-    return _LOOPS[f]
+                f(mode, dt, P, pairs, pl, M, wc, table, model, acc, g0, g1, g2, lo, hi, 1e4,
+                  so)
+        _LOOPS[key] = loop
+    return _LOOPS[key]
 
 
 def main(argv=None):

@@ -26,7 +26,19 @@ from gsi.dem import Simulation, Material
 
 
 def repeater(engine):
-    """A compiled loop of n force passes of ``engine`` (no Python between them)."""
+    """A compiled loop of n force passes of ``engine`` (no Python between them): the
+    engine object of :mod:`gsi.dem.engine` (its model bound), or a generated engine
+    module of gsi before 2026-12-03 (for before/after tables from an old checkout)."""
+    if hasattr(engine, "model"):
+        from gsi.dem.engine import contact_forces as cf
+        model = engine.model
+
+        @numba.njit
+        def rep(n, mode, dt, P, pairs, pl, M, wc, table, acc, g, lo, hi, so):
+            for _ in range(n):
+                cf(mode, dt, P, pairs, pl, M, wc, table, model, acc, g[0], g[1], g[2], lo, hi,
+                   1e4, so)
+        return rep
     cf = engine.contact_forces
 
     @numba.njit

@@ -3,16 +3,69 @@
 Set ``GSI_NO_JIT=1`` to run the kernels as plain Python (debugging); ``NUMBA_NUM_THREADS``
 sets the thread count of ``prange`` loops.
 """
+import hashlib
 import os
+import pathlib
+import shutil
+import time
+import warnings
 
 import numba
 import numpy
+from numba.core.errors import NumbaExperimentalFeatureWarning
+
+# The contact model unrolls registries of compiled sub-models (gsi/dem/contact/model.py),
+# which numba types as first-class functions and reports as experimental at every
+# compile: the feature is exercised by the tests, and the warning is noise to a user.
+warnings.filterwarnings("ignore", message="First-class function type",
+                        category=NumbaExperimentalFeatureWarning)
+
+def _kernel_digest():
+    """Hash of the sources of every module of gsi that compiles kernels (those importing
+    from ``gsi.jit``) and of this file."""
+    here = pathlib.Path(__file__).parent
+    h = hashlib.sha1()
+    for f in sorted(here.rglob("*.py")):
+        text = f.read_bytes()
+        if f.name == "jit.py" or b"gsi.jit import" in text:
+            h.update(f.relative_to(here).as_posix().encode())
+            h.update(text)
+    return h.hexdigest()[:12]
+
+
+def _set_cache_dir():
+    """Point numba's cache at a directory named by :func:`_kernel_digest`.
+
+    numba keys a cached function on its own file only, while the code of the functions it
+    calls in other files is compiled into it: after an edit of a contact law, the engine
+    cached before would still run the old law.  A directory per version of the kernel
+    sources makes any edit start a fresh cache (one cold compile, about a minute).  The
+    base is ``$NUMBA_CACHE_DIR`` if set, else ``~/.cache/gsi/numba``, where caches unused
+    for a week are removed (other checkouts of gsi may still use a younger one).
+    """
+    base = os.environ.get("NUMBA_CACHE_DIR")
+    own = not base
+    if own:
+        base = os.path.join(os.path.expanduser("~"), ".cache", "gsi", "numba")
+    digest = _kernel_digest()
+    numba.config.CACHE_DIR = os.path.join(base, digest)
+    if own and os.path.isdir(base):
+        week_ago = time.time() - 7 * 86400
+        for old in os.listdir(base):
+            path = os.path.join(base, old)
+            if old != digest and os.path.getmtime(path) < week_ago:
+                shutil.rmtree(path, ignore_errors=True)
+    os.makedirs(numba.config.CACHE_DIR, exist_ok=True)
+    os.utime(numba.config.CACHE_DIR)
+
 
 #: run kernels as plain Python when GSI_NO_JIT=1 (slow; for debugging with pdb/prints)
 DISABLE_JIT = os.environ.get("GSI_NO_JIT", "0") == "1"
+if not DISABLE_JIT:
+    _set_cache_dir()
 
 JIT_FLAGS = dict(
-    cache=True,      # compiled kernels are written to __pycache__ and reused by later runs
+    cache=True,      # compiled kernels are reused by later runs (cache: _set_cache_dir)
     fastmath=False,  # keep IEEE semantics: validation tests compare to round-off
     error_model="numpy",  # division by zero gives inf/nan instead of raising (no branch)
 )

@@ -1,7 +1,7 @@
 """Contact geometry shared by the contact laws, the heat models and radiation.
 
 One place for the overlap, the unit normal, the lever arms and the contact radius a
-(DESIGN.md "Contact geometry"):
+(docs/design.md, "Contact geometry"):
 
 - two spheres at centre distance L (overlap delta = R_i + R_j - L):
   a^2 = R_i^2 - ((R_i^2 - R_j^2 + L^2)/(2L))^2 (the intersection circle of the

@@ -39,10 +39,9 @@ log).  Positions, temperatures, heat capacities m c_p (J/K) and material types o
 particles at t0 and t1, the conductance factors c of every material pair, the walls'
 temperatures (a wall without one is adiabatic) and the time step come with the rows.
 
-Cost.  Logging is a compile-time variant of the generated engine
-(:mod:`gsi.dem.engine_factory`, ``log=True``): the engine without it is the unchanged
-one, so a simulation that does not log pays nothing.  The logging engine follows the
-same trajectory bit for bit; on a sampled step it ends the step before the next one
+Cost.  Logging is a run-time switch of the engine's model (:mod:`gsi.dem.engine`,
+``get_engine(..., log=True)``): a simulation that does not log pays one test per step.
+The logging engine follows the same trajectory bit for bit; on a sampled step it ends the step before the next one
 begins instead of fusing them (one more parallel region per sample) and runs the serial
 :func:`sample` (a walk over the contacts and a sort of their keys).
 

@@ -1,4 +1,4 @@
-"""Contact conductance models of particle heat conduction (DESIGN.md "Heat in particles").
+"""Contact conductance models of particle heat conduction (docs/design.md, "Heat in particles").
 
 Q_ij = H_ij (T_j - T_i) with contact radius a (a^2 given, m^2):
 
@@ -25,27 +25,29 @@ A model is ``H(a2, ri, rj, tab, row) -> W/K`` with the radii of the two bodies (
 is ``inf``), reading row ``row`` of the flattened pair table. Keep heat terms additive:
 another term (radiation) is a further sum in the engine.
 
-The models are inlined into the engine (``inline="always"``): called as separate compiled
-functions they cost about 0.7 us per touching pair (measured on the quasi-2D drum of
-seed 001 case 6, 336 particles: 0.76 ms per step against 0.24 ms inlined), which made
-every heat run about three times slower than the same run without heat.
+Each model also has its lane loop (``<name>_lanes``, the heat sub-model of
+:mod:`gsi.dem.contact.model`): Q = H (T_j - T_i) into i for the lanes of a batch
+(:mod:`gsi.dem.contact.lanes`: reads ``A2``, ``RI``, ``RJ``, ``DTEMP``, writes ``Q``);
+the conductance functions are inlined into it (``inline="always"``).
 """
 import math
 
-from gsi.jit import njit
+
+from gsi.jit import njit, sqrt, uint
+from gsi.dem.contact.lanes import A2, RI, RJ, DTEMP, Q
 from gsi.dem.materials import P_HC, P_K_I, P_K_J, P_KH, P_PIPE_R, P_PIPE_W
 
 
 @njit(inline="always")
 def area(a2, ri, rj, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) sqrt(pi a^2) (W/K)."""
-    return tab[row, P_KH] * math.sqrt(math.pi * a2) if a2 > 0.0 else 0.0
+    return tab[row, P_KH] * sqrt(math.pi * a2) if a2 > 0.0 else 0.0
 
 
 @njit(inline="always")
 def radius(a2, ri, rj, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) a (W/K)."""
-    return tab[row, P_KH] * math.sqrt(a2) if a2 > 0.0 else 0.0
+    return tab[row, P_KH] * sqrt(a2) if a2 > 0.0 else 0.0
 
 
 @njit(inline="always")
@@ -81,10 +83,38 @@ def none(a2, ri, rj, tab, row):
     return 0.0
 
 
-HEAT_MODELS = {
-    None: ("gsi.dem.heat", "none"),
-    "area": ("gsi.dem.heat", "area"),
-    "radius": ("gsi.dem.heat", "radius"),
-    "constant": ("gsi.dem.heat", "constant"),
-    "pipe": ("gsi.dem.heat", "pipe"),
-}
+# ---- lane loops: one per model (the heat sub-models of gsi.dem.contact.model) ----------
+
+@njit(_nrt=False)
+def area_lanes(l0, l1, B, tab, row, dt):
+    """Q = H (T_j - T_i) of lanes l0..l1-1, H of :func:`area`."""
+    for l in range(uint(l0), uint(l1)):
+        B[Q + l] = area(B[A2 + l], B[RI + l], B[RJ + l], tab, row) * B[DTEMP + l]
+
+
+@njit(_nrt=False)
+def radius_lanes(l0, l1, B, tab, row, dt):
+    """Q = H (T_j - T_i) of lanes l0..l1-1, H of :func:`radius`."""
+    for l in range(uint(l0), uint(l1)):
+        B[Q + l] = radius(B[A2 + l], B[RI + l], B[RJ + l], tab, row) * B[DTEMP + l]
+
+
+@njit(_nrt=False)
+def constant_lanes(l0, l1, B, tab, row, dt):
+    """Q = H (T_j - T_i) of lanes l0..l1-1, H of :func:`constant`."""
+    for l in range(uint(l0), uint(l1)):
+        B[Q + l] = constant(B[A2 + l], B[RI + l], B[RJ + l], tab, row) * B[DTEMP + l]
+
+
+@njit(_nrt=False)
+def pipe_lanes(l0, l1, B, tab, row, dt):
+    """Q = H (T_j - T_i) of lanes l0..l1-1, H of :func:`pipe`."""
+    for l in range(uint(l0), uint(l1)):
+        B[Q + l] = pipe(B[A2 + l], B[RI + l], B[RJ + l], tab, row) * B[DTEMP + l]
+
+
+@njit(_nrt=False)
+def none_lanes(l0, l1, B, tab, row, dt):
+    """No conduction: Q = 0."""
+    for l in range(uint(l0), uint(l1)):
+        B[Q + l] = 0.0

@@ -1,10 +1,9 @@
 """Velocity-Verlet integration and the scan for rebuilds (law-independent kernels).
 
-One DEM step (DESIGN.md "DEM physics"): v += dt/2 F/m, x += dt v, omega += dt/2 T/I;
+One DEM step (docs/design.md, "DEM physics"): v += dt/2 F/m, x += dt v, omega += dt/2 T/I;
 F = m g, T = 0, Q = 0 for the new forces; contacts; v += dt/2 F/m, omega += dt/2 T/I,
-T += dt Q/(m c_p).  The per-particle pieces here are called by the generated engine
-(:mod:`gsi.dem.engine_factory`) inside its force pass; they are ordinary cached
-numba functions, compiled once for every engine.  ``P`` is the
+T += dt Q/(m c_p).  The per-particle pieces here are called by the engine
+(:mod:`gsi.dem.engine`) inside its force pass.  ``P`` is the
 :data:`gsi.dem.state.Particles` bundle.
 """
 import numpy as np

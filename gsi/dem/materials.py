@@ -1,4 +1,4 @@
-"""Materials and the per-type pair tables of the DEM (DESIGN.md "DEM physics").
+"""Materials and the per-type pair tables of the DEM (docs/design.md, "DEM physics").
 
 A :class:`Material` holds the properties of one particle or wall type.  The
 :func:`pair_table` precomputes, for every pair of types (i, j), the effective values

@@ -1,6 +1,6 @@
 """Triangle contacts of one particle with the face/edge/vertex de-duplication.
 
-DESIGN.md "Contact geometry": a sphere touches a triangle at its closest point (face,
+docs/design.md, "Contact geometry": a sphere touches a triangle at its closest point (face,
 edge or vertex region, :func:`gsi.dem.geometry.closest_point_triangle`); a particle
 touching several triangles of one smooth surface must not be pushed twice.  Per
 particle and wall: face contacts are taken first; an edge or vertex contact is dropped
@@ -8,7 +8,7 @@ when a face contact of a triangle containing that edge or vertex exists, when th
 edge or vertex already gave a contact, or when an accepted contact lies at the same
 point (within :data:`SAME_POINT_TOL` R).
 
-Law-independent: the generated engine calls :func:`select_triangle_contacts` and then
+Law-independent: the engine calls :func:`select_triangle_contacts` and then
 evaluates its law on the accepted slots.
 """
 from gsi.jit import njit

@@ -88,7 +88,7 @@ import numpy as np
 from gsi.errors import GsiInputError, GsiRunError
 from gsi.dem.materials import (DT_DEFAULT, DT_LINEAR_DEFAULT, DT_LINEAR_REFUSE, DT_REFUSE,
                                DT_WARN, Material, pair_table, rayleigh_time)
-from gsi.dem.engine_factory import get_engine
+from gsi.dem.engine import get_engine
 from gsi.dem import neighbour as nbr
 from gsi.dem.walls import PlaneWall, MeshWall, triangle_edges, _vec3
 from gsi.dem.state import (MAX_WALL_SLOTS, PARTICLE_FIELDS, WALL_CONTACT_FIELDS, Particles,

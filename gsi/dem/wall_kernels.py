@@ -1,7 +1,6 @@
 """Law-independent wall kernels: wall motion and the serial sums of wall loads.
 
-Ordinary cached numba functions called by every generated engine
-(:mod:`gsi.dem.engine_factory`); ``pl`` is the :data:`gsi.dem.state.Planes` bundle,
+Cached numba functions called by the engine (:mod:`gsi.dem.engine`); ``pl`` is the :data:`gsi.dem.state.Planes` bundle,
 ``M`` the :data:`gsi.dem.state.Mesh` bundle, ``wc`` the
 :data:`gsi.dem.state.WallContacts` bundle.
 """

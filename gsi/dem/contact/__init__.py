@@ -1,27 +1,13 @@
-"""Contact laws, one per file, registered by name.
+"""The DEM contact model: sub-models in one file each, chosen by name.
 
-A normal/tangential law is ONE numba function
-``law(nx, ny, nz, delta, vx, vy, vz, R_eff, m_eff, tab, row, hx, hy, hz, dt)
--> (fx, fy, fz, F_n, hx, hy, hz)`` (``tab[row]`` is the pair-table row, ``h`` the
-tangential spring before and after the step) called by the particle–particle,
-particle–plane and particle–triangle geometry code alike.  A rolling law is
-``roll(wx, wy, wz, R_eff, F_n, tab, row, I_eff, dt) -> (Mx, My, Mz)``.
+- :mod:`~gsi.dem.contact.lanes`: the buffer of contacts the sub-models read and write;
+- :mod:`~gsi.dem.contact.model`: the registries (normal, tangential, rolling, heat) and
+  :func:`~gsi.dem.contact.model.evaluate`, the one function every contact goes through;
+- normal sub-models :mod:`~gsi.dem.contact.hertz`, :mod:`~gsi.dem.contact.linear`;
+  tangential :mod:`~gsi.dem.contact.tangential`; rolling :mod:`~gsi.dem.contact.rolling`;
+  heat in :mod:`gsi.dem.heat`.
 
-A law reads only ``tab`` and writes no memory, so the engine's loop of laws over a batch
-of contacts vectorizes.  Laws are compiled ``inline="always"`` (copied into the caller's
-numba IR): a separately compiled law reaches the caller with LLVM's pairs of lanes (SLP)
-already formed, which stop the loop vectorizer; they take roots with
-:data:`gsi.jit.sqrt` (libm's ``sqrt`` is an opaque call to LLVM).
-Each registry entry maps a name to ``(module, function name)``; the engine for a chosen
-combination is generated once (see :mod:`gsi.dem.engine_factory`).
+A sub-model is a compiled loop over lanes that reads only the buffer and its pair-table
+row, so LLVM vectorizes it; it takes roots with :data:`gsi.jit.sqrt` (numba declares
+libm's ``sqrt`` as writing errno, which keeps a loop from vectorizing).
 """
-CONTACT_LAWS = {
-    "hertz": ("gsi.dem.contact.hertz", "hertz"),
-    "linear": ("gsi.dem.contact.linear", "linear"),
-}
-
-ROLLING_LAWS = {
-    False: ("gsi.dem.contact.rolling", "no_rolling"),
-    True: ("gsi.dem.contact.rolling", "cdt"),
-    "cdt": ("gsi.dem.contact.rolling", "cdt"),
-}

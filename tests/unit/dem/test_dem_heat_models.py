@@ -20,7 +20,7 @@ B = Material(E=1e9, nu=0.3, rho=2000, k=8.0)
 ])
 def test_models(name, expected):
     tab = pair_table([A, B], h_c=0.3, pipe_length=0.004, pipe_resistance=0.01).reshape(4, -1)
-    fn = getattr(heat, heat.HEAT_MODELS[name][1])
+    fn = getattr(heat, name)
     for a2 in (1e-8, 2.5e-7):
         assert fn(a2, 1e-3, 2e-3, tab, 1) == pytest.approx(expected(a2), rel=1e-14)
     if name != "constant":
