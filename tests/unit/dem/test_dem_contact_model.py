@@ -118,11 +118,14 @@ def _calls(tree):
 def test_one_evaluation_site_for_pairs_planes_and_triangles():
     """The contact model is evaluated at one place in the engine, which both the pair path
     and the wall path (planes and triangles) call; only the registry imports the laws."""
-    calls = _calls(ast.parse((GSI / "dem" / "engine.py").read_text()))
+    calls = {}
+    for name in ("engine.py", "pair_lanes.py", "wall_lanes.py"):
+        calls.update(_calls(ast.parse((GSI / "dem" / name).read_text())))
     assert {f for f, c in calls.items() if "evaluate" in c} == {"evaluate_runs"}
     assert {f for f, c in calls.items() if "evaluate_runs" in c} == {"finish_pairs",
                                                                      "finish_walls"}
-    assert "gather_walls" in calls["slab_task"] and "gather_pairs" in calls["slab_task"]
+    for f in ("gather_pairs", "finish_pairs", "gather_walls", "finish_walls"):
+        assert f in calls["slab_task"]
     law_modules = {"gsi.dem.contact.hertz", "gsi.dem.contact.linear",
                    "gsi.dem.contact.tangential", "gsi.dem.contact.rolling"}
     importers = set()

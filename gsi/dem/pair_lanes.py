@@ -1,0 +1,234 @@
+"""Sphere-pair contacts in lanes: gather, geometry, the contact model, Newton's third law.
+
+The pair path of the engine (:mod:`gsi.dem.engine`): the touching candidates of a slab's
+rows are compacted into the lanes of a buffer (:func:`gather_pairs`), their geometry is
+computed in one vectorized loop (:func:`pair_geometry`), the contact model runs over runs
+of lanes of one pair-table row (:func:`evaluate_runs`, the one call of
+:func:`gsi.dem.contact.model.evaluate` for every kind of contact), and each pair is added
+to both particles (:func:`finish_pairs`).  Buffer fields: :mod:`gsi.dem.contact.lanes`.
+"""
+import numpy as np
+
+from gsi.jit import njit, sqrt, uint
+from gsi.dem.contact.lanes import (
+    NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IEFF, WX, WY, WZ, A2, RI, RJ, DTEMP,
+    HX, HY, HZ, FX, FY, FZ, MX, MY, MZ, Q, AI, AJ, MI, MJ, II, IJ, WIX, WIY, WIZ, TIX, TIY,
+    TIZ, TJX, TJY, TJZ)
+from gsi.dem.contact.model import evaluate
+from gsi.dem.contact_geometry import spheres_touch
+
+
+@njit(_nrt=False)
+def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n):
+    """Candidates k0..k1-1 of particle i into the batch from lane ``n`` on.
+
+    The contact test (``pairs.active``; the spring of a contact that ended restarts), the
+    touching pairs compacted without a branch (every candidate is written at lane n,
+    which advances only for a touching one: about half of a dense bed's candidates
+    touch, at random, a coin flip for a branch), then the inputs of the new lanes
+    gathered.  Returns the next free lane; the caller leaves room for all candidates."""
+    x = P.x
+    v = P.v
+    w = P.omega
+    hist = pairs.hist
+    pact = pairs.active
+    ri = P.radius[i]
+    xi0 = x[i, 0]
+    xi1 = x[i, 1]
+    xi2 = x[i, 2]
+    l0 = n
+    for k in range(uint(k0), uint(k1)):
+        j = uint(pairs.j[k])
+        dx = x[j, 0] - xi0
+        dy = x[j, 1] - xi1
+        dz = x[j, 2] - xi2
+        t = np.uint8(spheres_touch(dx * dx + dy * dy + dz * dz, ri + P.radius[j]))
+        was = pact[k]
+        pact[k] = t
+        if was > t:
+            hist[k, 0] = 0.0
+            hist[k, 1] = 0.0
+            hist[k, 2] = 0.0
+        B[NX + n] = dx
+        B[NY + n] = dy
+        B[NZ + n] = dz
+        lk[n] = k
+        lj[n] = j
+        n += uint(t)
+    mi = P.mass[i]
+    Ii = P.inertia[i]
+    Ti = P.T[i]
+    for l in range(l0, n):
+        j = lj[l]
+        k = lk[l]
+        lrow[l] = row_i + P.type[j]
+        B[RI + l] = ri
+        B[RJ + l] = P.radius[j]
+        B[MI + l] = mi
+        B[MJ + l] = P.mass[j]
+        B[II + l] = Ii
+        B[IJ + l] = P.inertia[j]
+        B[VX + l] = v[i, 0] - v[j, 0]
+        B[VY + l] = v[i, 1] - v[j, 1]
+        B[VZ + l] = v[i, 2] - v[j, 2]
+        B[WIX + l] = w[i, 0]
+        B[WIY + l] = w[i, 1]
+        B[WIZ + l] = w[i, 2]
+        B[WX + l] = w[j, 0]
+        B[WY + l] = w[j, 1]
+        B[WZ + l] = w[j, 2]
+        B[DTEMP + l] = P.T[j] - Ti
+        B[HX + l] = hist[k, 0]
+        B[HY + l] = hist[k, 1]
+        B[HZ + l] = hist[k, 2]
+    return n
+
+
+@njit(_nrt=False)
+def pair_geometry(n, B):
+    """The contact geometry of lanes 0..n-1 of touching sphere pairs, in place.
+
+    In: the centre offset d = x_j - x_i (in ``NX..NZ``), radii, masses, inertias, v_i - v_j
+    (in ``VX..VZ``), omega_i (``WIX..``), omega_j (in ``WX..``).  Out: the unit normal n
+    from i to j, the overlap delta = R_i + R_j - L, the lever arms a_i = R_i - delta/2,
+    a_j = R_j - delta/2, the velocity of i relative to j at the contact point
+    v_i + omega_i x (a_i n) - v_j - omega_j x (-a_j n), R*, m*, I*, omega_i - omega_j and
+    the squared contact radius a^2 = R_i^2 - ((R_i^2 - R_j^2 + L^2)/(2L))^2."""
+    for l in range(uint(0), uint(n)):
+        dx = B[NX + l]
+        dy = B[NY + l]
+        dz = B[NZ + l]
+        ri = B[RI + l]
+        rj = B[RJ + l]
+        L2 = dx * dx + dy * dy + dz * dz
+        L = sqrt(L2)
+        inv_L = 1.0 / L
+        nx = dx * inv_L
+        ny = dy * inv_L
+        nz = dz * inv_L
+        delta = (ri + rj) - L
+        a_i = ri - 0.5 * delta
+        a_j = rj - 0.5 * delta
+        wix = B[WIX + l]
+        wiy = B[WIY + l]
+        wiz = B[WIZ + l]
+        wjx = B[WX + l]
+        wjy = B[WY + l]
+        wjz = B[WZ + l]
+        wsx = a_i * wix + a_j * wjx
+        wsy = a_i * wiy + a_j * wjy
+        wsz = a_i * wiz + a_j * wjz
+        B[VX + l] += wsy * nz - wsz * ny
+        B[VY + l] += wsz * nx - wsx * nz
+        B[VZ + l] += wsx * ny - wsy * nx
+        B[WX + l] = wix - wjx
+        B[WY + l] = wiy - wjy
+        B[WZ + l] = wiz - wjz
+        B[NX + l] = nx
+        B[NY + l] = ny
+        B[NZ + l] = nz
+        B[DELTA + l] = delta
+        B[AI + l] = a_i
+        B[AJ + l] = a_j
+        B[REFF + l] = ri * rj / (ri + rj)
+        mi = B[MI + l]
+        mj = B[MJ + l]
+        B[MEFF + l] = mi * mj / (mi + mj)
+        Ii = B[II + l]
+        Ij = B[IJ + l]
+        B[IEFF + l] = Ii * Ij / (Ii + Ij)
+        s = (ri * ri - rj * rj + L2) * 0.5 * inv_L
+        B[A2 + l] = ri * ri - s * s
+
+
+@njit(_nrt=False)
+def pair_torques(n, B):
+    """Torques of lanes 0..n-1: a_i n x F + M_r on i, a_j n x F - M_r on j (F, M_r on i)."""
+    for l in range(uint(0), uint(n)):
+        nx = B[NX + l]
+        ny = B[NY + l]
+        nz = B[NZ + l]
+        fx = B[FX + l]
+        fy = B[FY + l]
+        fz = B[FZ + l]
+        cx = ny * fz - nz * fy
+        cy = nz * fx - nx * fz
+        cz = nx * fy - ny * fx
+        a_i = B[AI + l]
+        a_j = B[AJ + l]
+        B[TIX + l] = a_i * cx + B[MX + l]
+        B[TIY + l] = a_i * cy + B[MY + l]
+        B[TIZ + l] = a_i * cz + B[MZ + l]
+        B[TJX + l] = a_j * cx - B[MX + l]
+        B[TJY + l] = a_j * cy - B[MY + l]
+        B[TJZ + l] = a_j * cz - B[MZ + l]
+
+
+@njit(_nrt=False)
+def evaluate_runs(n, B, lrow, tab, dt, model):
+    """:func:`gsi.dem.contact.model.evaluate` over lanes 0..n-1, one call per run of lanes
+    that share a pair-table row (a loop-invariant row keeps the table reads out of the
+    vectorizer's way; a one-type simulation has one run)."""
+    l0 = uint(0)
+    while l0 < n:
+        l1 = l0 + uint(1)
+        while l1 < n and lrow[l1] == lrow[l0]:
+            l1 += uint(1)
+        evaluate(l0, l1, B, tab, lrow[l0], dt, model)
+        l0 = l1
+
+
+@njit(_nrt=False)
+def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model, heat_on):
+    """The contact model over the batch's ``n`` pair lanes, then each of its ``nrow`` rows:
+    its pairs added to both particles (Newton's third law), the springs stored."""
+    pair_geometry(n, B)
+    evaluate_runs(n, B, lrow, tab, dt, model)
+    pair_torques(n, B)
+    f = P.force
+    tq = P.torque
+    hist = pairs.hist
+    for b in range(nrow):
+        i = brow[b]
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        tx = 0.0
+        ty = 0.0
+        tz = 0.0
+        qi = 0.0
+        for l in range(blane[b], blane[b + 1]):
+            j = lj[l]
+            k = lk[l]
+            cfx = B[FX + l]
+            cfy = B[FY + l]
+            cfz = B[FZ + l]
+            fx += cfx
+            fy += cfy
+            fz += cfz
+            tx += B[TIX + l]
+            ty += B[TIY + l]
+            tz += B[TIZ + l]
+            f[j, 0] -= cfx
+            f[j, 1] -= cfy
+            f[j, 2] -= cfz
+            tq[j, 0] += B[TJX + l]
+            tq[j, 1] += B[TJY + l]
+            tq[j, 2] += B[TJZ + l]
+            P.ncontact[j] += 1
+            hist[k, 0] = B[HX + l]
+            hist[k, 1] = B[HY + l]
+            hist[k, 2] = B[HZ + l]
+            if heat_on:
+                Qp = B[Q + l]
+                qi += Qp
+                P.q[j] -= Qp
+        P.ncontact[i] += np.int32(blane[b + 1] - blane[b])
+        f[i, 0] += fx
+        f[i, 1] += fy
+        f[i, 2] += fz
+        tq[i, 0] += tx
+        tq[i, 1] += ty
+        tq[i, 2] += tz
+        if heat_on:
+            P.q[i] += qi
