@@ -79,11 +79,11 @@ from mpi4py import MPI
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
 
-import meshes  # noqa: E402
+from gsi import meshes  # noqa: E402
 from gsi.fem.elasticity import Elasticity  # noqa: E402
 from gsi.fem.heat import Heat  # noqa: E402
 from gsi.fem.surface import ContactSurface  # noqa: E402
-from meshes import shell  # noqa: E402
+from gsi.meshes import shell  # noqa: E402
 
 DT_DYNAMIC = 1.25e-4     # s, T_1 / 20 of the default shell (T_1 = 2.5 ms)
 DT_HEAT = 1.0            # s

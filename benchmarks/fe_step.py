@@ -26,7 +26,7 @@ from mpi4py import MPI
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
 
-import meshes  # noqa: E402
+from gsi import meshes  # noqa: E402
 from gsi.fem.elasticity import Elasticity  # noqa: E402
 from gsi.fem.surface import ContactSurface  # noqa: E402
 

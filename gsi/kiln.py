@@ -10,7 +10,7 @@ the half y < 0 set to :data:`T_HOT` and the other to :data:`T_COLD`, then turned
 The kiln (:func:`kiln_case`):
 
 - the shell is a steel tube (k = 53.3 W/(m K), c = 440 J/(kg K), rho = 7850 kg/m^3;
-  :mod:`meshes.drum`, axis along x from 0 to L, inner radius R, 5 mm thick, P1) whose
+  :mod:`gsi.meshes.drum`, axis along x from 0 to L, inner radius R, 5 mm thick, P1) whose
   outer surface is held at :data:`T_SHELL` (a Dirichlet tag: the heating jacket), its
   ends insulated; it starts at :data:`T_SHELL` throughout;
 - its inner surface is the DEM wall the bed touches (the wall material has the seed's

@@ -262,7 +262,7 @@ class Structure:
     # ------------------------------------------------------------------ validation
     def validate(self, path: str = "structure") -> None:
         """Checks of the values alone (the schema calls it with the key path)."""
-        import meshes
+        from gsi import meshes
         self._key = path or "structure"
         key = self._key
         if not self.name or any(ch in self.name for ch in "/\\ ") or self.name.startswith("."):
@@ -372,7 +372,7 @@ class Structure:
 
     def _mesh_groups(self, base_dir) -> tuple[list[str], str]:
         """(surface group names of the mesh, what to call the mesh in messages)."""
-        import meshes
+        from gsi import meshes
         if self.mesh is not None:
             return list(meshes.GROUPS[self.mesh]), f"the '{self.mesh}' builder"
         f = self._file_path(base_dir)
@@ -462,7 +462,7 @@ class Structure:
     def load_mesh(self, *, comm, base_dir=".", root: int = 0):
         """The distributed mesh with the ``tags`` mapping applied (collective): every key of
         ``tags`` becomes one more name of its group, so either name works."""
-        import meshes
+        from gsi import meshes
         if self.mesh is not None:
             sm = meshes.build(self.mesh, comm=comm, **self.geometry)
         else:

@@ -54,7 +54,7 @@ class CoupledStructure:
     name : str
         Output prefix (``<name>.xdmf``, ``<name>.csv``, ``<name>_coupling.csv``,
         ``<name>_energy.csv``).
-    mesh : meshes.StructureMesh
+    mesh : gsi.meshes.StructureMesh
     material : gsi.fem.materials.StructuralMaterial
         Physical (unscaled) material.
     elasticity : gsi.fem.elasticity.Elasticity or None

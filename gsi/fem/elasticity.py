@@ -88,7 +88,7 @@ class Elasticity:
 
     Parameters
     ----------
-    structure : meshes.StructureMesh
+    structure : gsi.meshes.StructureMesh
         Mesh with facet tags (names in ``structure.tags``).
     material : StructuralMaterial or str or dict
         Material (library name, table, or object).

@@ -80,7 +80,7 @@ class Heat:
 
     Parameters
     ----------
-    structure : meshes.StructureMesh
+    structure : gsi.meshes.StructureMesh
     material : StructuralMaterial or str or dict
         Uses rho (kg/m^3), c (J/(kg K)) and k (W/(m K)).
     dt : float

@@ -8,7 +8,7 @@ fully clamped 3D root is a little stiffer than the beam-theory root).
 """
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 

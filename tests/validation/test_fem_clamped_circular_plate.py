@@ -10,7 +10,7 @@ whole rim face; P1 tets lock and give only 8 % of the deflection on this mesh).
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 from gsi.fem.surface import ContactSurface

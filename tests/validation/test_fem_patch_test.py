@@ -8,7 +8,7 @@ round-off on any mesh, here a gmsh-free structured box and a gmsh slab.
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 

@@ -12,7 +12,7 @@ h = a/35 (2.7e5 dofs), is within 0.5 %: -0.43 % (92 CG iterations; 2026-12-02).
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 

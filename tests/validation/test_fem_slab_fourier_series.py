@@ -11,7 +11,7 @@ x = const, so the 1D solution is in the P1 space and the problem stays 1D).
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.heat import Heat
 from gsi.fem.materials import StructuralMaterial
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import ufl
 
-import meshes
+from gsi import meshes
 from gsi.fem import compat
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import MATERIALS

@@ -190,7 +190,7 @@ def test_plane_and_mesh_wall_give_the_same_rate():
 def test_coupled_plate_heated_by_radiation_only_closes_its_books(degree):
     """P1: the heat-only coupling; P2: the thermo-elastic one, whose DEM wall is the face
     split at its edge midpoints (the radiated heat goes to the six parent nodes)."""
-    import meshes
+    from gsi import meshes
     from gsi.coupling.staggered import StaggeredCoupling
     from gsi.coupling.thermal import ThermalCoupling
     from gsi.fem.elasticity import Elasticity

@@ -12,7 +12,7 @@ the DEM wall.
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.coupling.staggered import StaggeredCoupling
 from gsi.coupling.thermal import ThermalCoupling
 from gsi.dem import Material, Simulation

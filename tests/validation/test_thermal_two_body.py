@@ -22,7 +22,7 @@ import math
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.coupling.thermal import ThermalCoupling
 from gsi.dem import Material, Simulation
 from gsi.fem.heat import Heat

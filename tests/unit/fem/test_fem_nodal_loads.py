@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from petsc4py import PETSc
 
-import meshes
+from gsi import meshes
 from gsi.errors import GsiInputError
 from gsi.fem import compat
 from gsi.fem._base import VertexDofMap

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from petsc4py import PETSc
 
-import meshes
+from gsi import meshes
 from gsi.case.structure import Structure
 from gsi.config.schema import load
 from gsi.errors import GsiInputError
@@ -114,7 +114,7 @@ def test_out_of_core_factor_is_on_disk_while_it_lives(slab, tmp_path, monkeypatc
 
 
 _OOC_SCRIPT = """
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 slab = meshes.build("membrane", shape="circle", radius=0.3, thickness=0.03, h=0.06,
                     n_thickness=2)
