@@ -46,7 +46,7 @@ def main():
                     default="direct")
     args = ap.parse_args()
     from gsi.case import load_case
-    from gsi.runner import Runner
+    from gsi.run import Runner
     case = load_case(ROOT / "demos" / "hopper_membrane.toml")
     st = case.structures[0]
     geometry = dict(st.geometry, h=args.h, n_thickness=args.n_thickness)

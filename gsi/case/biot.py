@@ -1,7 +1,7 @@
 """The Biot-number check of a case (seed 001 (thesis), eq. II.4).
 
 :func:`check_biot` is the case-level entry point for the runner and ``gsi check``: given a
-case and its DEM (after :func:`gsi.runner.build_simulation`, after ``Runner.setup`` or at
+case and its DEM (after :func:`gsi.run.build_simulation`, after ``Runner.setup`` or at
 any time of a run), it reports the Biot number Bi = H/(k pi R) of the particle contacts
 (:func:`gsi.dem.biot.contact_biot`) and warns, naming ``dem.heat``, when Bi is not << 1
 (above :data:`gsi.dem.biot.BIOT_LIMIT` = 0.1). The thesis's case 4 (two particles of

@@ -75,9 +75,7 @@ __all__ = ["Case", "load_case", "case_from_table", "case_to_table", "merge_table
 # the one time-step rule's thresholds (fractions of the Rayleigh time / linear contact time)
 from gsi.dem.materials import (DT_DEFAULT, DT_LINEAR_DEFAULT, DT_LINEAR_REFUSE,  # noqa: E402
                                DT_REFUSE, DT_WARN)
-#: largest initial overlap of two particles, as a fraction of the smaller radius (file and
-#: lattice sources; random fills never overlap)
-MAX_OVERLAP = 0.05
+from gsi.case.sources import MAX_OVERLAP  # noqa: E402  (the sources check it; one constant)
 #: largest Verlet skin, in largest particle radii
 MAX_SKIN = 4.0
 #: largest head-on overlap of two particles meeting at the estimated impact speed, as a

@@ -300,7 +300,7 @@ SILO = ROOT / "demos" / "thermal_silo_radiation.toml"
 
 def test_case_keys_reach_the_simulation():
     from gsi.case import load_case
-    from gsi.runner import build_simulation
+    from gsi.run import build_simulation
     case = load_case(SILO)
     sim, _, _ = build_simulation(case, dt=case.check())
     rad = sim.radiation
@@ -320,7 +320,7 @@ def test_silo_bed_radiation_share_quick(tmp_path):
     heating), 34.9 % of it radiated; 5.256 kJ without the bed's radiation."""
     import tomllib
     from gsi.case import case_from_table
-    from gsi.runner import run_case
+    from gsi.run import run_case
     out = {}
     for name, on in (("rad", True), ("ref", False)):
         t = tomllib.loads(SILO.read_text())

@@ -16,7 +16,7 @@ import pytest
 from gsi.case import load_case
 from gsi.case.biot import BiotWarning, check_biot
 from gsi.dem.biot import biot_number
-from gsi.runner import build_simulation
+from gsi.run import build_simulation
 
 GRADED = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded"
 R, L = 2.0e-3, 3.8e-3

@@ -13,7 +13,7 @@ quasi-static with under-relaxation. At rest:
   the particles, to round-off.
 
 Used by tests/validation/test_coupling_bed_on_membrane.py and the MPI test; runnable on
-its own: ``python -m gsi.coupling.validation`` prints the key numbers.
+its own: ``python -m gsi.studies.bed_on_membrane`` prints the key numbers.
 """
 from __future__ import annotations
 
