@@ -2,7 +2,7 @@
 
 * :mod:`gsi.run.runner`: :class:`Runner`, the event loop (DEM chunks between events,
   structures' coupling intervals, wall motions, monitors, outputs, checkpoints);
-* :mod:`gsi.run.build`: :func:`build_simulation`, the DEM of a case;
+* :func:`build_simulation` (from :mod:`gsi.case.build_dem`): the DEM of a case;
 * :mod:`gsi.run.outputs`, :mod:`gsi.run.pictures`, :mod:`gsi.run.outdir`: output series,
   pictures, the output directory;
 * :mod:`gsi.run.checkpoints`: :class:`Checkpointer`, checkpoint and restart;
@@ -11,7 +11,7 @@
   ``gsi`` command.
 """
 from gsi.run.api import demo_main, run_case
-from gsi.run.build import build_simulation
+from gsi.case.build_dem import build_simulation
 from gsi.run.result import RunInterrupted, RunResult
 from gsi.run.runner import Runner
 

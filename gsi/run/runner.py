@@ -51,7 +51,7 @@ import time
 import numpy as np
 
 from gsi.errors import GsiInputError, GsiRunError
-from gsi.run.build import build_simulation
+from gsi.case.build_dem import build_simulation
 from gsi.run.checkpoints import Checkpointer
 from gsi.run.outdir import output_dir
 from gsi.run.outputs import Outputs

@@ -234,7 +234,7 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     """
     import pathlib
     import time
-    from gsi.run import build_simulation
+    from gsi.case.build_dem import build_simulation
     say = say or (lambda m: None)
     case = drum_case(geometry, settle=settle, seed=seed, skin=skin)
     dt = case.check()

@@ -1,4 +1,4 @@
-"""The DEM of a case: :func:`build_simulation`."""
+"""The DEM of a case: :func:`build_simulation` (its materials, walls and particles)."""
 from __future__ import annotations
 
 import numpy as np
