@@ -66,7 +66,7 @@ def main():
     h = runner.structures[0].mechanics.history()
     steps = np.c_[h["wall_dem"], h["wall_fe"], h["wall_transfer"]]     # (coupling steps, 3)
     per_rank = comm.gather((steps[1:].sum(axis=0), steps.sum(axis=0)), root=0)
-    solver = runner.structures[0].elasticity._solver
+    solver = runner.structures[0].elasticity.linear_solver
     factor_s = comm.allreduce(solver.factor_seconds, op=MPI.MAX)
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6          # GB (kB on Linux)
     peak_gb, rank_gb = comm.allreduce(rss, op=MPI.SUM), comm.allreduce(rss, op=MPI.MAX)

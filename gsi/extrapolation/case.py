@@ -22,7 +22,7 @@ class CaseExtrapolation:
         DEM step (s).
     out : pathlib.Path
         Output directory (``contact_log.npz``, ``extrapolation.csv``, pictures).
-    structure : gsi.coupling.structure.CoupledStructure, optional
+    structure : gsi.coupling.coupled_structure.CoupledStructure, optional
         An FE heat wall (a thermal-only structure, e.g. a kiln shell): the replay is :class:`FEWallReplay`, the
         structure's heat returns to its state at t1 after it (the live run goes on).
     """
@@ -94,10 +94,10 @@ class CaseExtrapolation:
         ``T``, ``x`` of the periods 0..n_cmp (and the last) in the form of
         :meth:`Replay.run`."""
         st, s = self.structure, self.spec
-        w = st.wall._w
+        w = st.wall.index
         M = sim.mesh_state
         saved = st.heat.state()
-        rep = FEWallReplay(self.log, st, fe_wall=sim._npl + w, omega=M.wall_omega[w].copy(),
+        rep = FEWallReplay(self.log, st, fe_wall=sim.wall_slot(st.wall), omega=M.wall_omega[w].copy(),
                            centre=M.wall_centre[w].copy())
         hot = None if self.hot is None else self.hot[self.log.ids]
         keep = sorted(set(range(self.n_cmp + 1)) | {s.periods})

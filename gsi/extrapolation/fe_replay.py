@@ -78,7 +78,7 @@ class FEWallReplay(Replay):
     Parameters
     ----------
     log : gsi.dem.contact_log.ContactLog
-    structure : gsi.coupling.structure.CoupledStructure
+    structure : gsi.coupling.coupled_structure.CoupledStructure
         The kiln wall (``heat`` and ``interface``; one MPI rank), in its state at t1.
     fe_wall : int
         The wall's index in the log (planes first, then mesh walls).

@@ -250,7 +250,7 @@ class _PriceGrid:
     cell), for the queries |x0[a] - x1[b]| + price[b] < level[a] over all b at once."""
 
     def __init__(self, x1):
-        from gsi.dem.neighbour import bin_cells, cell_index, grid_for
+        from gsi.dem.cells import bin_cells, cell_index, grid_for
         n = len(x1)
         self.lo = x1.min(axis=0)
         hi = x1.max(axis=0)

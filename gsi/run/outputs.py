@@ -20,7 +20,7 @@ class Outputs:
     """Files under ``out`` (rank 0 the DEM's, every rank its structures' part).
 
     ``handles``: the case's DEM walls by ``[[walls]]`` name; ``structures``: the built
-    :class:`gsi.coupling.structure.CoupledStructure` objects; ``pictures``: collect picture
+    :class:`gsi.coupling.coupled_structure.CoupledStructure` objects; ``pictures``: collect picture
     jobs (rank 0)."""
 
     def __init__(self, out, case, *, is_root: bool, pictures: bool, handles: dict,

@@ -111,3 +111,51 @@ def key_line(keys: dict) -> str:
 def write_summary(out: pathlib.Path, text: str, keys: dict) -> None:
     """``out/summary.txt``: the summary text and its key line."""
     write_atomic(out / "summary.txt", text + "\n" + key_line(keys) + "\n", fsync=False)
+
+
+def finish_run(case, sim, handles, structures, outputs, extrapolation, *, out, dt, wall0,
+               pictures, structure_summaries, checkpoint_seconds, say) -> RunResult:
+    """The end of a run on the DEM rank: the loads on the walls, the monitor series, the
+    pictures, the extrapolation's summary; the :class:`RunResult` with its summary
+    printed (``say``) and written to ``out/summary.txt``."""
+    import time
+    from gsi.run.pictures import monitor_plot, render_frames
+    g = np.asarray(case.dem.gravity, float)
+    load = np.zeros(3)
+    for hs in handles.values():
+        for h in hs:
+            load += h.force
+    for st in structures:
+        if st.wall is not None:
+            load += st.wall.force
+    monitors = outputs.monitor_arrays()
+    files = list(outputs.files)
+    for st in structures:
+        files += st.output_files()
+    files += monitor_plot(out, case.case.name, monitors)
+    if pictures and outputs.frames:
+        files += render_frames(out, case.case.name, outputs.frames)
+    extrap, extra = {}, []
+    if extrapolation is not None:
+        extrap = extrapolation.finish(case.case.name)
+        if extrap:
+            extra = extrapolation.summary_lines(extrap)
+            files += extrapolation.files
+            if pictures:
+                files += extrapolation.pictures(case.case.name, view=case.output.view)
+    res = RunResult(name=case.case.name, time=sim.time, steps=sim.step_count, dt=dt,
+                    n_particles=int(sim.n), n_lost=int(sim.n_lost),
+                    particle_mass=float(sim.mass.sum()), kinetic_energy=sim.kinetic_energy(),
+                    wall_load=load, weight=float(sim.mass.sum()) * g, monitors=monitors,
+                    structures=structure_summaries, summary={},
+                    wall_clock=time.perf_counter() - wall0, files=files)
+    text, res.summary = summary(res, extrap, extra)
+    say(text)
+    say(key_line(res.summary))
+    write_summary(out, text, res.summary)
+    if checkpoint_seconds:
+        spent = sum(checkpoint_seconds)
+        say(f"checkpoints: {len(checkpoint_seconds)} written in {spent:.3f} s "
+            f"({100 * spent / res.wall_clock:.2f} % of the {res.wall_clock:.1f} s "
+            f"wall time; the longest {max(checkpoint_seconds):.3f} s)")
+    return res

@@ -34,7 +34,7 @@ simulated seconds (``checkpoint_every`` overrides it; the checkpoint steps are e
 every ``run.checkpoint_minutes`` of wall-clock time (decided on rank 0), and on
 SIGINT/SIGTERM, every rank writes its state (:meth:`Runner.state`: the DEM's
 :meth:`gsi.dem.simulation.Simulation.state` on rank 0, each structure's
-:meth:`gsi.coupling.structure.CoupledStructure.state`, the loop counters, the monitor
+:meth:`gsi.coupling.coupled_structure.CoupledStructure.state`, the loop counters, the monitor
 series, the output series and the pending picture jobs) to
 ``checkpoints/ckpt_<step>.rank<r>.npz``, then rank 0 the manifest. A signal only sets a
 flag; at the end of the current chunk every rank agrees (one allreduce), writes the
@@ -55,8 +55,7 @@ from gsi.case.build_dem import build_simulation
 from gsi.run.checkpoints import Checkpointer
 from gsi.run.outdir import output_dir
 from gsi.run.outputs import Outputs
-from gsi.run.pictures import monitor_plot, render_frames
-from gsi.run.result import RunResult, agree, agreed, summary, key_line, write_summary
+from gsi.run.result import RunResult, agree, agreed, finish_run
 
 __all__ = ["Runner"]
 
@@ -125,7 +124,7 @@ class Runner:
             print(*args, **kw, flush=True)
 
     def structure(self, name: str):
-        """The built structure ``name`` (a :class:`gsi.coupling.structure.CoupledStructure`)."""
+        """The built structure ``name`` (a :class:`gsi.coupling.coupled_structure.CoupledStructure`)."""
         for st in self.structures:
             if st.name == name:
                 return st
@@ -191,25 +190,10 @@ class Runner:
             self.comm, self.root, self.out, dt=self.dt, case_name=case.case.name,
             quick=self.quick, minutes=case.run.checkpoint_minutes,
             every=max(1, int(round(interval / self.dt))) if interval > 0 else None)
-        self.extrapolation = self._extrapolation()
+        self.extrapolation = _case_extrapolation(case, self.dt, self.out, self.structures,
+                                                 resume=self.resume, ranks=self.comm.size)
         self.motion_events = _motion_events(case, self.dt, self.n_total, self.handles,
                                             self.structures)
-
-    def _extrapolation(self):
-        """The long-time heat extrapolation (gsi.case.extrapolation): its steps are events."""
-        if self.case.extrapolation is None:
-            return None
-        if self.resume:
-            raise agreed(GsiInputError(
-                "resume: a case with [extrapolation] cannot resume (its contact log is "
-                "not in the checkpoints); run it again"))
-        from gsi.extrapolation import CaseExtrapolation
-        if self.structures and self.comm.size > 1:
-            raise agreed(GsiInputError(
-                "extrapolation with [[structures]]: the replay of an FE wall runs on one MPI "
-                "rank; run without mpirun"))
-        return CaseExtrapolation(self.case.extrapolation, dt=self.dt, out=self.out,
-                                 structure=self.structures[0] if self.structures else None)
 
     # ------------------------------------------------------------------ the loop
     def run(self) -> RunResult:
@@ -336,7 +320,7 @@ class Runner:
         ``mon.<monitor>.<column>`` (the series so far), ``pvd.*`` (output series times),
         ``fem.<structure>.writes``, ``frames`` (pending picture jobs, rank 0), ``dem.*``
         (:meth:`gsi.dem.simulation.Simulation.state`, rank 0) and
-        ``st.<structure>.*`` (:meth:`gsi.coupling.structure.CoupledStructure.state`)."""
+        ``st.<structure>.*`` (:meth:`gsi.coupling.coupled_structure.CoupledStructure.state`)."""
         d = {"runner.k": np.int64(k), "runner.n_out": np.int64(n_out),
              "runner.n_total": np.int64(self.n_total), "runner.dt": np.float64(self.dt)}
         for st in self.structures:
@@ -361,53 +345,32 @@ class Runner:
 
     # ------------------------------------------------------------------ results
     def _finish(self, wall0: float) -> RunResult:
-        case = self.case
+        """The result (rank 0 builds it, prints and writes the summary; every rank gets it)."""
         structures = {st.name: st.summary() for st in self.structures}
         res = None
         if self.is_root:
-            sim = self.sim
-            g = np.asarray(case.dem.gravity, float)
-            load = np.zeros(3)
-            for hs in self.handles.values():
-                for h in hs:
-                    load += h.force
-            for st in self.structures:
-                if st.wall is not None:
-                    load += st.wall.force
-            monitors = self.outputs.monitor_arrays()
-            files = list(self.outputs.files)
-            for st in self.structures:
-                files += st.output_files()
-            files += monitor_plot(self.out, case.case.name, monitors)
-            if self.pictures and self.outputs.frames:
-                files += render_frames(self.out, case.case.name, self.outputs.frames)
-            extrap, extra = {}, []
-            if self.extrapolation is not None:
-                extrap = self.extrapolation.finish(case.case.name)
-                if extrap:
-                    extra = self.extrapolation.summary_lines(extrap)
-                    files += self.extrapolation.files
-                    if self.pictures:
-                        files += self.extrapolation.pictures(case.case.name,
-                                                             view=case.output.view)
-            res = RunResult(name=case.case.name, time=sim.time, steps=sim.step_count, dt=self.dt,
-                            n_particles=int(sim.n), n_lost=int(sim.n_lost),
-                            particle_mass=float(sim.mass.sum()),
-                            kinetic_energy=sim.kinetic_energy(), wall_load=load,
-                            weight=float(sim.mass.sum()) * g, monitors=monitors,
-                            structures=structures, summary={},
-                            wall_clock=time.perf_counter() - wall0, files=files)
-            text, res.summary = summary(res, extrap, extra)
-            self.say(text)
-            self.say(key_line(res.summary))
-            write_summary(self.out, text, res.summary)
-            seconds = self.checkpoint_seconds
-            if seconds:
-                spent = sum(seconds)
-                self.say(f"checkpoints: {len(seconds)} written in {spent:.3f} s "
-                         f"({100 * spent / res.wall_clock:.2f} % of the {res.wall_clock:.1f} s "
-                         f"wall time; the longest {max(seconds):.3f} s)")
+            res = finish_run(self.case, self.sim, self.handles, self.structures, self.outputs,
+                             self.extrapolation, out=self.out, dt=self.dt, wall0=wall0,
+                             pictures=self.pictures, structure_summaries=structures,
+                             checkpoint_seconds=self.checkpoint_seconds, say=self.say)
         return self.comm.bcast(res, root=self.root)
+
+
+def _case_extrapolation(case, dt, out, structures, *, resume: bool, ranks: int):
+    """The long-time heat extrapolation (gsi.case.extrapolation): its steps are events."""
+    if case.extrapolation is None:
+        return None
+    if resume:
+        raise agreed(GsiInputError(
+            "resume: a case with [extrapolation] cannot resume (its contact log is "
+            "not in the checkpoints); run it again"))
+    from gsi.extrapolation import CaseExtrapolation
+    if structures and ranks > 1:
+        raise agreed(GsiInputError(
+            "extrapolation with [[structures]]: the replay of an FE wall runs on one MPI "
+            "rank; run without mpirun"))
+    return CaseExtrapolation(case.extrapolation, dt=dt, out=out,
+                             structure=structures[0] if structures else None)
 
 
 def _periods(case, dt: float, structures) -> dict:

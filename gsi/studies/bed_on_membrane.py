@@ -1,4 +1,5 @@
-"""A bed of particles at rest on a clamped membrane (DESIGN.md validation case 8).
+"""A bed of particles at rest on a clamped membrane (docs/design.md, "Validation cases",
+case 8).
 
 A single layer of n x n softwood spheres (seed 000, Table 3; plus rolling resistance so
 that they come to rest) is placed just above the top face of a clamped circular plate

@@ -1,4 +1,4 @@
-"""DESIGN.md case 8: a bed of particles at rest on a clamped membrane (two-way coupled).
+"""docs/design.md, "Validation cases", case 8: a bed of particles at rest on a clamped membrane (two-way coupled).
 
 A layer of 36 softwood spheres (r = 10 mm, XDEM Table 3, with rolling resistance) settles
 on a clamped P2 rubber plate (radius 0.2 m, 10 mm thick; generalized-alpha,

@@ -1,4 +1,4 @@
-"""Mesh refinement of the coupled membrane: the bed-on-membrane case (DESIGN.md case 8,
+"""Mesh refinement of the coupled membrane: the bed-on-membrane case (docs/design.md, "Validation cases", case 8,
 gsi/studies/bed_on_membrane.py) on two P2 meshes, h = 25 mm and h = 18 mm (9.6k and 17.5k
 dofs). The total interface load (= the bed's weight at rest) changes by < 1 % and the
 maximum deflection by < 5 % (measured 0.02 % and 2.9 %; the sequence h = 50, 35, 25,

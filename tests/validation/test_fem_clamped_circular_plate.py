@@ -1,4 +1,4 @@
-"""DESIGN.md case 6b (plate): clamped circular plate under uniform pressure, on the gmsh
+"""docs/design.md, "Validation cases", case 6b (plate): clamped circular plate under uniform pressure, on the gmsh
 membrane builder's mesh, vs plate theory.
 
 Kirchhoff: w_0 = q a^4 / (64 D), D = E t^3 / (12 (1 - nu^2)) (Timoshenko & Woinowsky-

@@ -1,4 +1,4 @@
-"""Mesh convergence of the clamped circular plate (DESIGN.md case 6b) with the iterative
+"""Mesh convergence of the clamped circular plate (docs/design.md, "Validation cases", case 6b) with the iterative
 solver (CG + GAMG), against plate theory.
 
 Same plate as tests/validation/test_fem_clamped_circular_plate.py (a / t = 25, P2 tetrahedra,

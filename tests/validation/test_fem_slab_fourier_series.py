@@ -1,4 +1,4 @@
-"""DESIGN.md case 5: 1D transient slab, insulated at x = 0, fixed temperature at x = L.
+"""docs/design.md, "Validation cases", case 5: 1D transient slab, insulated at x = 0, fixed temperature at x = L.
 
 Reference (Carslaw & Jaeger, §3.4): with theta = (T - T_1)/(T_0 - T_1), Fourier number
 Fo = a t / L^2 and lambda_n = (2n + 1) pi / 2,

@@ -1,4 +1,4 @@
-"""DESIGN.md case 7: thermo-elastic bar heated uniformly by dT.
+"""docs/design.md, "Validation cases", case 7: thermo-elastic bar heated uniformly by dT.
 
 * free bar (held only on three symmetry planes): elongation alpha dT L, zero stress;
 * bar clamped axially at both ends, laterally free (uniaxial stress state):

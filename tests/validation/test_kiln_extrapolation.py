@@ -55,7 +55,7 @@ def test_the_kiln_is_the_drum_family_cascading(kiln):
     assert res.n_particles == 300 and res.n_lost == 0
     assert log.period == pytest.approx(0.5) and len(csv) == 21
     # the FE wall's contacts are in the log, with their triangles
-    fe_wall = runner.sim._npl + runner.structures[0].wall._w
+    fe_wall = runner.sim.wall_slot(runner.structures[0].wall)
     rows = log.pw_wall == fe_wall
     assert rows.sum() > 100
     assert log.pw_tri[rows].min() >= 0
@@ -120,7 +120,7 @@ def test_wall_contacts_turn_with_the_shell(kiln):
     axis, centre = np.array([1.0, 0.0, 0.0]), np.zeros(3)
     # the DEM's wall at the end of the run (t = 3 s, turning since 0.5 s)
     assert np.abs(st.wall.vertices - rotate(itf.x0, axis, centre, omega * 2.5)).max() < 1e-9
-    fe_wall = runner.sim._npl + st.wall._w
+    fe_wall = runner.sim.wall_slot(st.wall)
     K = int(round(log.period / log.dt))
     open_at_t1 = (log.pw_wall == fe_wall) & (log.pw_start + log.pw_dur == K)
     tri = np.unique(log.pw_tri[open_at_t1])

@@ -1,4 +1,4 @@
-"""The thermal silo demo in its quick form, checked for physics (DESIGN.md case 9 at scale).
+"""The thermal silo demo in its quick form, checked for physics (docs/design.md, "Validation cases", case 9 at scale).
 
 450 clinker particles at 800 K settle in a steel bin cooled outside (demos/thermal_silo.toml,
 ``--quick``: 200 coupling steps, 60 s of heating with the documented time scale 200).

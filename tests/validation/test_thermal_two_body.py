@@ -1,6 +1,6 @@
 """Particle-wall conduction through the FE coupling against exact two-body references.
 
-DESIGN.md case 9 ("hot particles on a cold wall") in its smallest form: ONE fixed particle
+docs/design.md, "Validation cases", case 9 ("hot particles on a cold wall") in its smallest form: ONE fixed particle
 touches ONE triangle of the contact face of a small FE block.
 
 * Lumped two-body limit: with a very high wall conductivity the block is isothermal, so

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from gsi.case import load_case
-from gsi.case.biot import check_biot
+from gsi.case.biot_check import check_biot
 from gsi.run import Runner
 
 CASE = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded" / "case5_hot_block.toml"
