@@ -30,7 +30,7 @@ def main():
                     help="override the membrane's contact.steps_per_period (sets n_sub)")
     args = ap.parse_args()
     from gsi.case import load_case
-    from gsi.runner import run_case
+    from gsi.run import run_case
     case = load_case(ROOT / "demos" / "hopper_membrane.toml")
     if args.steps_per_period:
         c = case.structures[0].contact

@@ -46,7 +46,7 @@ def main():
                     default="direct")
     args = ap.parse_args()
     from gsi.case import load_case
-    from gsi.runner import Runner
+    from gsi.run import Runner
     case = load_case(ROOT / "demos" / "hopper_membrane.toml")
     st = case.structures[0]
     geometry = dict(st.geometry, h=args.h, n_thickness=args.n_thickness)
@@ -66,7 +66,7 @@ def main():
     h = runner.structures[0].mechanics.history()
     steps = np.c_[h["wall_dem"], h["wall_fe"], h["wall_transfer"]]     # (coupling steps, 3)
     per_rank = comm.gather((steps[1:].sum(axis=0), steps.sum(axis=0)), root=0)
-    solver = runner.structures[0].elasticity._solver
+    solver = runner.structures[0].elasticity.linear_solver
     factor_s = comm.allreduce(solver.factor_seconds, op=MPI.MAX)
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6          # GB (kB on Linux)
     peak_gb, rank_gb = comm.allreduce(rss, op=MPI.SUM), comm.allreduce(rss, op=MPI.MAX)

@@ -1,7 +1,7 @@
 """Benchmark "drum_extrapolation": long-time heat extrapolation (seed 003) against gsi's
 own full DEM of the rotating drum.
 
-The drum of :mod:`gsi.drum` (seed 003 Tables 3-4; 80,000 particles in R = 0.30 m at
+The drum of :mod:`gsi.studies.drum` (seed 003 Tables 3-4; 80,000 particles in R = 0.30 m at
 5 s per turn, Fr = 0.048, cascading; smaller drums at the same Froude number): fill,
 settle (drum at rest), hot left half / cold right half, one turn of spin-up, then one
 period t0..t1 logged with each sampling (every n steps, rows split at dt_split) and
@@ -64,14 +64,14 @@ def main(argv=None):
     ap.add_argument("--state", default=None,
                     help="a .npz path: the set-up (fill, settle, spin-up) is saved there every "
                          "5,000 steps and resumed from it, so it can be spread over several "
-                         "runs (gsi.drum.prepare); a state of fewer spin-up turns is "
+                         "runs (gsi.studies.drum.prepare); a state of fewer spin-up turns is "
                          "extended; the measured part always runs whole")
     ap.add_argument("--skin", type=float, default=None,
                     help="Verlet skin in particle radii (default gsi's 0.4; neighbour lists "
                          "only: results agree to round-off)")
     ap.add_argument("--halves-at-t0", action="store_true",
                     help="set the hot (x below the median) and cold halves of the particles "
-                         "at t0 instead of at the end of the settling (gsi.drum's t_init), so the bed has not mixed its heat "
+                         "at t0 instead of at the end of the settling (gsi.studies.drum's t_init), so the bed has not mixed its heat "
                          "during the spin-up; heat does not move particles, so the mechanics "
                          "and the contact log are the same")
     ap.add_argument("--setup-only", action="store_true",
@@ -86,8 +86,8 @@ def main(argv=None):
     import numpy as np
     if args.threads:
         numba.set_num_threads(args.threads)
-    from gsi.drum import drum_geometry, prepare
-    from gsi.extrapolation import (_finite_max, compare_with_dem, period_errors,
+    from gsi.studies.drum import drum_geometry, prepare
+    from gsi.extrapolation import (finite_max, compare_with_dem, period_errors,
                                    voronoi_seeds)
     n = args.particles or (5000 if args.quick else 80_000)
     g = drum_geometry(n)
@@ -96,7 +96,7 @@ def main(argv=None):
           f"({g.regime}); threads {numba.get_num_threads()}", flush=True)
     t = time.perf_counter()
     timing = {}
-    from gsi.drum import PARTICLE_RADIUS
+    from gsi.studies.drum import PARTICLE_RADIUS
     skin = None if args.skin is None else args.skin * PARTICLE_RADIUS
     sim, hot, _ = prepare(g, spin_up=args.spin_up, state=args.state, timing=timing, skin=skin,
                           say=lambda m: print("  " + m, flush=True))
@@ -109,7 +109,7 @@ def main(argv=None):
               f"{timing['spin_seconds']:.1f} s (summed over the runs that made the set-up): "
               f"{spin_s:.1f} s per turn", flush=True)
     if args.halves_at_t0:
-        from gsi.drum import T_COLD, T_HOT
+        from gsi.studies.drum import T_COLD, T_HOT
         # the turning bed leans to the rising side: two halves of the particles, split at
         # their median x (at the end of the settling that is x = 0)
         x_mid = float(np.median(sim.x[:, 0]))
@@ -192,9 +192,9 @@ def main(argv=None):
         energy_err_max=max(float(np.abs(x["energy_error"]).max()) for x in runs),
         eps_abs_400_max=max(float(x["eps_abs_400"].max()) for x in runs),
         eps_rel_400_max=max(float(np.nanmax(x["eps_rel_400"])) for x in runs),
-        eps_over_level_max=_finite_max(np.concatenate(
+        eps_over_level_max=finite_max(np.concatenate(
             [x["eps_abs"] / x["eps_level"] for x in runs])),
-        eps_over_level_400_max=_finite_max(np.concatenate(
+        eps_over_level_400_max=finite_max(np.concatenate(
             [x["eps_abs_400"] / x["eps_level_400"] for x in runs])),
         energy_drift_max=max(float(x["energy_drift"].max()) for x in runs),
         pairing_s=run["pairing_seconds"], replay_setup_s=run["replay_setup_seconds"],

@@ -3,7 +3,7 @@ turning mesh wall, no plane): where the step goes, per thread count.
 
     python benchmarks/drum_profile.py [--particles 5000] [--steps 1000] [--threads 1,2]
 
-The drum of :mod:`gsi.drum` is filled, settled and turned ``--spin-up`` turns (default
+The drum of :mod:`gsi.studies.drum` is filled, settled and turned ``--spin-up`` turns (default
 0.05); then, for each thread count, ``--steps`` steps are timed (wall clock) and the
 force pass is timed alone (a compiled loop of force passes, no Python in between):
 
@@ -112,8 +112,8 @@ def main(argv=None):
                     help="Verlet skin in particle radii (default gsi's 0.4)")
     args = ap.parse_args(argv)
     import numba
-    from gsi.drum import drum_geometry, prepare
-    from gsi.drum import PARTICLE_RADIUS
+    from gsi.studies.drum import drum_geometry, prepare
+    from gsi.studies.drum import PARTICLE_RADIUS
     skin = None if args.skin is None else args.skin * PARTICLE_RADIUS
     sim, _, _ = prepare(drum_geometry(args.particles), spin_up=args.spin_up, skin=skin)
     line = ""

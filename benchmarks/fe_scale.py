@@ -79,11 +79,11 @@ from mpi4py import MPI
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
 
-import meshes  # noqa: E402
+from gsi import meshes  # noqa: E402
 from gsi.fem.elasticity import Elasticity  # noqa: E402
 from gsi.fem.heat import Heat  # noqa: E402
 from gsi.fem.surface import ContactSurface  # noqa: E402
-from meshes import shell  # noqa: E402
+from gsi.meshes import shell  # noqa: E402
 
 DT_DYNAMIC = 1.25e-4     # s, T_1 / 20 of the default shell (T_1 = 2.5 ms)
 DT_HEAT = 1.0            # s
@@ -159,7 +159,7 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
         p.clear_nodal_loads()
         s.add_nodal_loads(_surface_loads(s, k) if comm.rank == 0 else None)
 
-    t_setup, times = _timed(comm, p._setup, load, advance, n_steps)
+    t_setup, times = _timed(comm, p.set_up, load, advance, n_steps)
     peak, rank_peak = peak_memory(comm)
     its = p.iterations
     out = dict(problem="static" if scheme == "static" else "dynamic", solver=p.solver_kind,
@@ -167,7 +167,7 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
                step_s=float(np.mean(times[1:])), its_first=its[0],
                its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
                surface_vertices=s.n_vertices, umax=p.max_displacement())
-    p._solver.destroy()
+    p.linear_solver.destroy()
     return out
 
 
@@ -204,14 +204,14 @@ def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
         h.clear_nodal_heat()
         s.add_nodal_heat(np.full(s.n_vertices, 1.0 + 0.1 * k) if comm.rank == 0 else None)
 
-    t_setup, times = _timed(comm, h._setup, load, h.step, n_steps)
+    t_setup, times = _timed(comm, h.set_up, load, h.step, n_steps)
     peak, rank_peak = peak_memory(comm)
     its = h.iterations
     out = dict(problem="heat", solver=h.solver_kind, dofs=h.n_dofs, setup_s=t_setup,
                first_s=times[0], step_s=float(np.mean(times[1:])), its_first=its[0],
                its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
                surface_vertices=s.n_vertices, Tmax=h.min_max()[1])
-    h._solver.destroy()
+    h.linear_solver.destroy()
     return out
 
 

@@ -32,7 +32,7 @@ CASE = ROOT / "demos" / "thermal_silo_radiation.toml"
 def run(table, out, *, quick):
     """Run a case table; returns (energy records of the bin, heat-capacity scale, wall s)."""
     from gsi.case import case_from_table
-    from gsi.runner import run_case
+    from gsi.run import run_case
     t0 = time.perf_counter()
     run_case(case_from_table(table, base_dir=CASE.parent), out=out, quick=quick,
              verbose=False, pictures=False, overwrite=True)

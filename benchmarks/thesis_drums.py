@@ -83,7 +83,7 @@ def main(argv=None):
     import numpy as np
     if args.threads:
         numba.set_num_threads(args.threads)
-    from gsi.runner import Runner
+    from gsi.run import Runner
     kv, series = {}, {}
     with tempfile.TemporaryDirectory() as tmp:
         for material in args.materials.split(","):

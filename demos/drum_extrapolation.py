@@ -39,7 +39,7 @@
 # ## The drum
 #
 # The paper gives the particles and 5 s per turn, not the drum: gsi's family of drums
-# (:mod:`gsi.drum`) has 80,000 particles in R = 0.30 m, L = 0.60 m at 5 s per turn, Froude
+# (:mod:`gsi.studies.drum`) has 80,000 particles in R = 0.30 m, L = 0.60 m at 5 s per turn, Froude
 # number omega^2 R/g = 0.048 (cascading, as the paper says of 5 s per turn), and smaller
 # drums at the same Froude number.  This demo runs the CI size, 5,000 particles in
 # R = 0.1191 m turning once in 3.15 s, one turn per period, six periods; ``--quick`` runs
@@ -48,8 +48,8 @@
 #
 # The same case is ``drum_extrapolation.toml``.
 
-from gsi.drum import drum_case, drum_geometry
-from gsi.runner import demo_main
+from gsi.studies.drum import drum_case, drum_geometry
+from gsi.run import demo_main
 
 # ## The case
 #

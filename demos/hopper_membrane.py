@@ -34,7 +34,7 @@ from gsi.case import (Case, CaseInfo, Dem, Material, Monitor, Motion, Output,
                       ParticleSource, Region, Run, Size, Structure, Wall)
 from gsi.case.structure import Contact
 from gsi.case.walls import MotionEvent
-from gsi.runner import demo_main
+from gsi.run import demo_main
 
 # ## Materials
 #

@@ -46,7 +46,7 @@
 #
 # ## The kiln
 #
-# gsi.kiln: the drum family of gsi.drum at the seed's Froude number, turned about x
+# gsi.studies.kiln: the drum family of gsi.studies.drum at the seed's Froude number, turned about x
 # once per 2 s (Fr = 0.06 for 640 particles in R = 0.06 m, cascading); the grains of
 # the seed's Tables 3-4 with a limestone-like conductivity k = 2 W/(m K) (the seed's
 # 100 would heat this small bed within minutes); the half y < 0 at 313.15 K and the
@@ -57,8 +57,8 @@
 #
 # The same case is ``kiln.toml``.
 
-from gsi.kiln import kiln_case, kiln_geometry
-from gsi.runner import demo_main
+from gsi.studies.kiln import kiln_case, kiln_geometry
+from gsi.run import demo_main
 
 # ## The case
 #

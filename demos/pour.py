@@ -26,7 +26,7 @@
 
 from gsi.case import (Case, CaseInfo, Dem, Material, Monitor, Output, ParticleSource,
                       Region, Run, Size, Wall)
-from gsi.runner import demo_main
+from gsi.run import demo_main
 
 # ## The material
 #

@@ -38,7 +38,7 @@
 from gsi.case import (Case, CaseInfo, Dem, Material, Monitor, Output, ParticleSource, Region,
                       Run, Size, Structure)
 from gsi.case.structure import Contact, Convection, StructureThermal
-from gsi.runner import demo_main
+from gsi.run import demo_main
 
 # ## Materials
 #

@@ -75,14 +75,9 @@ __all__ = ["Case", "load_case", "case_from_table", "case_to_table", "merge_table
 # the one time-step rule's thresholds (fractions of the Rayleigh time / linear contact time)
 from gsi.dem.materials import (DT_DEFAULT, DT_LINEAR_DEFAULT, DT_LINEAR_REFUSE,  # noqa: E402
                                DT_REFUSE, DT_WARN)
-#: largest initial overlap of two particles, as a fraction of the smaller radius (file and
-#: lattice sources; random fills never overlap)
-MAX_OVERLAP = 0.05
-#: largest Verlet skin, in largest particle radii
-MAX_SKIN = 4.0
-#: largest head-on overlap of two particles meeting at the estimated impact speed, as a
-#: fraction of the radius (a softer material lets particles pass through each other)
-MAX_IMPACT_OVERLAP = 0.5
+from gsi.case.sources import MAX_OVERLAP  # noqa: E402  (the sources check it; one constant)
+from gsi.case import case_checks  # noqa: E402
+from gsi.case.case_checks import MAX_IMPACT_OVERLAP, MAX_SKIN  # noqa: E402,F401
 #: more particles than this in one case is refused before any allocation
 MAX_PARTICLES = 20_000_000
 
@@ -285,12 +280,12 @@ class Case:
                 raise GsiInputError(f"quick.run.duration = {q.run.duration}: longer than "
                                     f"run.duration = {self.run.duration} (s); --quick must be "
                                     f"shorter")
-        self._check_skin()
-        self._check_stiffness()
-        self._check_placed_overlaps()
+        case_checks.check_skin(self)
+        case_checks.check_stiffness(self)
+        case_checks.check_placed_overlaps(self)
         dt = self.time_step()
-        self._check_streams(dt)
-        self._check_radiation(dt)
+        case_checks.check_streams(self, dt)
+        case_checks.check_radiation(self, dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)
@@ -321,12 +316,12 @@ class Case:
         dom = dict(domain_lo=self.dem.domain_lo, domain_hi=self.dem.domain_hi)
         for i, p in enumerate(self.particles):
             p.check(f"particles[{i}]", base_dir=self.base_dir, **dom)
-        self._check_skin()
-        self._check_stiffness()
-        self._check_placed_overlaps()
+        case_checks.check_skin(self)
+        case_checks.check_stiffness(self)
+        case_checks.check_placed_overlaps(self)
         dt = self.time_step()
-        self._check_streams(dt)
-        self._check_radiation(dt)
+        case_checks.check_streams(self, dt)
+        case_checks.check_radiation(self, dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)
@@ -340,20 +335,6 @@ class Case:
     def largest_radius(self) -> float:
         return max(self.source_largest_radius(i) for i in range(len(self.particles)))
 
-    def _check_skin(self) -> None:
-        """A Verlet skin above MAX_SKIN largest radii (or the domain) is a unit slip: every
-        particle would list every other as a neighbour."""
-        skin = self.dem.skin
-        if skin is None:
-            return
-        r_max = self.largest_radius()
-        limit = min(MAX_SKIN * r_max, self.dem.domain_size)
-        if skin > limit:
-            raise GsiInputError(
-                f"dem.skin = {skin:g}: larger than {MAX_SKIN:g} x the largest particle radius "
-                f"({r_max:g} m) or the domain; use about 0.4 x the smallest radius = "
-                f"{0.4 * self.smallest_radius():.3g} m, or remove it for the default (m)")
-
     def impact_speed(self, i: int) -> float:
         """Speed (m/s) at which particles of source i may meet: their initial speed plus a
         free fall through the domain's height along gravity."""
@@ -363,96 +344,6 @@ class Case:
         height = float(np.abs(g / gn) @ (np.asarray(self.dem.domain_hi) -
                                          np.asarray(self.dem.domain_lo))) if gn > 0 else 0.0
         return float(np.linalg.norm(p.velocity)) + math.sqrt(2.0 * gn * height)
-
-    def _check_stiffness(self) -> None:
-        """Particles of each source meeting head-on at :meth:`impact_speed` must not
-        overlap by more than MAX_IMPACT_OVERLAP of their radius: Hertz (Johnson, Contact
-        Mechanics, eq. 11.24) delta = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) with m* = m/2,
-        R* = r/2, E* = E / (2 (1 - nu^2)); linear law delta = v sqrt(m*/k_n). delta / r
-        does not depend on r. A softer material (E = 1 Pa) lets every particle pass
-        through its neighbours and out of the domain."""
-        for i, p in enumerate(self.particles):
-            v = self.impact_speed(i)
-            if v <= 0:
-                continue
-            mat = self.materials[p.material]
-            r = self.source_largest_radius(i)
-            m_star = 0.5 * mat.rho * 4.0 / 3.0 * math.pi * r ** 3
-            if self.dem.contact == "linear":
-                delta = v * math.sqrt(m_star / self.dem.k_n)
-                if delta > MAX_IMPACT_OVERLAP * r:
-                    need = self.dem.k_n * (delta / (0.1 * r)) ** 2
-                    raise GsiInputError(
-                        f"dem.k_n = {self.dem.k_n:g}: too soft; particles[{i}] (radius {r:g} m) "
-                        f"meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their radius; "
-                        f"use k_n >= {need:.3g} N/m (overlap 0.1 r)")
-                continue
-            e_star = mat.E / (2.0 * (1.0 - mat.nu ** 2))
-            delta = (15.0 * m_star * v ** 2 / (16.0 * e_star * math.sqrt(0.5 * r))) ** 0.4
-            if delta > MAX_IMPACT_OVERLAP * r:
-                need = mat.E * (delta / (0.1 * r)) ** 2.5
-                raise GsiInputError(
-                    f"materials.{p.material}.E = {mat.E:g}: too soft; particles[{i}] (radius "
-                    f"{r:g} m) meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their "
-                    f"radius and pass through each other; use E >= {need:.3g} Pa (overlap "
-                    f"0.1 r; check the units: Pa)")
-
-    def _check_placed_overlaps(self) -> None:
-        """Particles placed at known positions (files, lattice fills) must not overlap one
-        another (within a file, or across sources) by more than MAX_OVERLAP of the smaller
-        radius: they would fly apart. With ``dem.force_dt`` a warning instead. A lattice
-        fill counts with its smallest radius here (its radii are drawn at the run's start,
-        when :meth:`ParticleSource.add_to` checks again); overlaps with random fills
-        (positions drawn at the start) are found there too."""
-        from gsi.case.sources import first_overlap, read_particle_file
-        seen_x, seen_r, seen_from = [], [], []
-        for i, p in enumerate(self.particles):
-            if p.fill == "file":
-                data = read_particle_file(self.base_dir / p.file, key=f"particles[{i}].file",
-                                          shown=p.file)
-                x, r = data["x"], data["radius"]
-                key, what = f"particles[{i}].file = '{p.file}'", "row"
-                hit = first_overlap(x, r, MAX_OVERLAP)
-                pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
-            elif p.fill == "lattice":
-                x = p.lattice_sites(f"particles[{i}]")
-                r = np.full(len(x), p.size.smallest)
-                key, what, hit = f"particles[{i}].region", "lattice site", None
-            else:
-                continue
-            if hit is None and seen_x:
-                hit = first_overlap(x, r, MAX_OVERLAP, other_x=np.concatenate(seen_x),
-                                    other_r=np.concatenate(seen_r))
-                if hit is not None:
-                    pair = f"{what} {hit[0]} and {seen_from[hit[1]]}"
-            if hit is not None:
-                msg = (f"{key}: {pair} overlap by {hit[2]:.3g} x the smaller radius (more than "
-                       f"{MAX_OVERLAP:g}); they would fly apart: separate them, shrink the "
-                       "radii, or move the region")
-                if not self.dem.force_dt:
-                    raise GsiInputError(msg + " (or dem.force_dt = true to run anyway)")
-                warnings.warn(f"dem.force_dt = true: {msg}", stacklevel=3)
-            seen_x.append(x)
-            seen_r.append(r)
-            seen_from += ([f"row {k} of particles[{i}].file" for k in range(len(x))]
-                          if p.fill == "file" else
-                          [f"lattice site {k} of particles[{i}]" for k in range(len(x))])
-
-    def _check_streams(self, dt: float) -> None:
-        """A stream must not be asked for more particles per step (rate x dt) than its
-        region holds (a random fill jams at RANDOM_FILL_LIMIT): the rest would be skipped
-        silently."""
-        from gsi.case.sources import RANDOM_FILL_LIMIT
-        for i, p in enumerate(self.particles):
-            if p.fill != "stream":
-                continue
-            per_step = p.rate * dt
-            holds = RANDOM_FILL_LIMIT * p.region.volume / p.size.mean_volume()
-            if per_step > holds:
-                raise GsiInputError(
-                    f"particles[{i}].rate = {p.rate:g}: {per_step:.3g} particles per DEM step "
-                    f"(rate x dt, dt = {dt:.3g} s) but the region holds about {holds:.3g}; "
-                    f"lower the rate (at most {holds / dt:.3g} 1/s) or enlarge the region")
 
     def radiation_options(self) -> dict | None:
         """Keywords of :meth:`gsi.dem.Simulation.set_radiation` (None: no radiation):
@@ -467,38 +358,6 @@ class Case:
                     cutoff=CUTOFF_DEFAULT if d.radiation_cutoff is None else d.radiation_cutoff,
                     every=1 if d.radiation_every is None else d.radiation_every,
                     T_enclosure=d.radiation_T_enclosure)
-
-    def _check_radiation(self, dt: float) -> None:
-        """The explicit radiation update must be stable at the start (the bound of
-        :mod:`gsi.dem.radiation`, which the run checks again at every evaluation):
-        radiation_every x dt x 4 eps sigma T_max^3 A/(m c_p) <= 1 with A/m = 3/(R rho)
-        at each source's smallest radius, c_p divided by the heat-time scale, T_max the
-        highest particle, wall, structure or enclosure temperature."""
-        opts = self.radiation_options()
-        if opts is None:
-            return
-        from gsi.dem.radiation import SIGMA
-        s = self.run.heat_time_scale
-        temps = [p.temperature for p in self.particles]
-        temps += [w.temperature for w in self.walls if w.temperature is not None]
-        for st in self.structures:
-            th = st.thermal
-            if th is not None:
-                temps.append(th.T_initial if th.T_initial is not None else th.T_ref)
-        if opts["T_enclosure"] is not None:
-            temps.append(opts["T_enclosure"])
-        T_max = max(temps)
-        rate = max(3.0 * self.materials[p.material].emissivity
-                   / (self.source_smallest_radius(i) * self.materials[p.material].rho
-                      * self.materials[p.material].cp / s)
-                   for i, p in enumerate(self.particles))
-        ratio = opts["every"] * dt * 4.0 * SIGMA * T_max ** 3 * rate
-        if ratio > 1.0:
-            raise GsiInputError(
-                f"dem.radiation_every = {opts['every']}: the explicit radiation update is "
-                f"unstable (radiation_every x dt x 4 eps sigma T^3 A/(m c_p) = {ratio:.3g} > 1 "
-                f"at T = {T_max:g} K); use dem.radiation_every <= "
-                f"{max(1, int(opts['every'] / ratio))} or a smaller run.dt")
 
     # ------------------------------------------------------------------ quick form
     def quick_variant(self) -> "Case":

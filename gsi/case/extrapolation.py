@@ -17,7 +17,7 @@ Haydar, Martin & Bonnefoy 2023; the method is :mod:`gsi.extrapolation`).
 ``axis`` coordinate is below ``at`` (m), ``above`` elsewhere; the two sets are the hot
 and cold groups of eq. 9 (the paper's left and right halves at t_init).
 
-The runner (:mod:`gsi.runner`) logs t0..t1, writes ``contact_log.npz``, pairs and
+The runner (:mod:`gsi.run`) logs t0..t1, writes ``contact_log.npz``, pairs and
 replays, and writes ``extrapolation.csv`` (per t_n: mean temperatures of the two groups
 and of all particles (heat-capacity weighted), extrapolated and, with ``compare``, full
 DEM; eqs. 9 and 10; the drift of sum m c_p T of the replay) and the pictures

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from gsi.config.schema import between, nonnegative, param, positive
+from gsi.dem.materials import MATERIAL_DEFAULTS as D
 from gsi.errors import GsiInputError
 
 __all__ = ["Material", "Pair"]
@@ -26,17 +27,19 @@ __all__ = ["Material", "Pair"]
 
 @dataclass(kw_only=True)
 class Material:
-    """A DEM material (particles and rigid walls): elastic, contact and thermal properties."""
+    """A DEM material (particles and rigid walls): elastic, contact and thermal properties
+    (the defaults are :data:`gsi.dem.materials.MATERIAL_DEFAULTS`, those of
+    :class:`gsi.dem.Material`)."""
 
     E: float = param(unit="Pa", check=positive(), doc="Young's modulus")
     nu: float = param(unit="-", check=between(-1.0, 0.5, open_lo=True, open_hi=True),
                       doc="Poisson's ratio")
     rho: float = param(unit="kg/m^3", check=positive(), doc="density")
-    e: float = param(0.5, unit="-", check=between(0.0, 1.0, open_lo=True), doc="restitution")
-    mu: float = param(0.5, unit="-", check=nonnegative(), doc="sliding friction")
-    mu_r: float = param(0.0, unit="-", check=nonnegative(), doc="rolling friction")
-    k: float = param(1.0, unit="W/(m K)", check=positive(), doc="thermal conductivity")
-    cp: float = param(1000.0, unit="J/(kg K)", check=positive(), doc="specific heat capacity")
+    e: float = param(D["e"], unit="-", check=between(0.0, 1.0, open_lo=True), doc="restitution")
+    mu: float = param(D["mu"], unit="-", check=nonnegative(), doc="sliding friction")
+    mu_r: float = param(D["mu_r"], unit="-", check=nonnegative(), doc="rolling friction")
+    k: float = param(D["k"], unit="W/(m K)", check=positive(), doc="thermal conductivity")
+    cp: float = param(D["cp"], unit="J/(kg K)", check=positive(), doc="specific heat capacity")
     emissivity: Optional[float] = param(None, unit="-", check=between(0.0, 1.0),
                                         doc="emissivity for dem.radiation (none: does not "
                                             "radiate; every particle material needs one)")

@@ -22,7 +22,7 @@ Each ``[[monitors]]`` table is one :class:`Monitor`; its ``kind`` says what it m
 ``mixing``
     Lacey's mixing index of species A (``group``) against all other particles, on a grid
     of ``cells`` sample cells over the box ``region``; cells with fewer than ``min_count``
-    particles are left out (:func:`gsi.dem.mixing.lacey_index`). 0: segregated, 1:
+    particles are left out (:func:`gsi.post.mixing.lacey_index`). 0: segregated, 1:
     randomly mixed. Also the number of cells kept and their mean count.
 
 A monitor samples every ``interval`` seconds of simulated time (default: the output
@@ -161,7 +161,7 @@ class Monitor:
             return [float((mcp * T).sum() / mcp.sum()), float(T.min()), float(T.max()),
                     len(rows)]
         if self.kind == "mixing":
-            from gsi.dem.mixing import lacey_index
+            from gsi.post.mixing import lacey_index
             is_a = np.isin(sim.ids, run.group_ids(self.group))
             M, kept, mean = lacey_index(sim.x, is_a, self.region.lo, self.region.hi,
                                         self.cells, min_count=self.min_count)

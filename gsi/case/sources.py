@@ -53,6 +53,9 @@ FILLS = ("random", "lattice", "stream", "file")
 #: largest volume fraction a random fill is asked for (random sequential insertion jams
 #: near 0.3-0.35; above this, use a lattice fill and let it settle)
 RANDOM_FILL_LIMIT = 0.30
+#: largest initial overlap of two particles, as a fraction of the smaller radius (file and
+#: lattice sources; random fills never overlap)
+MAX_OVERLAP = 0.05
 #: more particles than this in one source is refused before any allocation
 MAX_PARTICLES = 20_000_000
 SIZE_KINDS = ("single", "uniform", "normal", "discrete")
@@ -299,9 +302,7 @@ class ParticleSource:
     @staticmethod
     def _refuse_overlap(sim, x, r, key: str) -> None:
         """New particles (file, lattice) must not overlap those already placed by more than
-        MAX_OVERLAP (gsi.case.case) of the smaller radius, unless ``dem.force_dt``
-        (``sim.force_dt``)."""
-        from gsi.case.case import MAX_OVERLAP
+        MAX_OVERLAP of the smaller radius, unless ``dem.force_dt`` (``sim.force_dt``)."""
         if sim.n == 0 or getattr(sim, "force_dt", False):
             return
         hit = first_overlap(x, r, MAX_OVERLAP, other_x=sim.x, other_r=sim.radius)

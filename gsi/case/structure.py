@@ -18,7 +18,7 @@ either name::
     solver = "auto"                      # direct | iterative | auto (by dof count)
     petsc = { ksp_rtol = 1e-12 }         # PETSc options of the elasticity solver
 
-Physics (DESIGN.md "Structure (FE) physics", "Coupling"): linear elasticity, static or
+Physics (docs/design.md, "Structure (FE) physics", "Coupling"): linear elasticity, static or
 dynamic (Newmark, generalized-alpha), Rayleigh damping C = a0 M + a1 K, clamped supports,
 uniform tractions and self-weight; heat conduction with convection, fixed temperature and
 flux by tag, theta-scheme; thermal strain alpha (T - T_ref). The contact surface
@@ -40,20 +40,18 @@ thermal (heat; the wall stays at its reference position) or both.
    :mod:`gsi.coupling.thermal`) with its boundary conditions;
 7. the one contact interface (:class:`gsi.coupling.interface.SurfaceInterface`).
 
-It returns a :class:`gsi.coupling.structure.CoupledStructure`, which a runner attaches to
+It returns a :class:`gsi.coupling.coupled_structure.CoupledStructure`, which a runner attaches to
 the DEM and steps. Before the run, :meth:`Structure.check` finds what it can without
 building (files, builder parameters, tags present in the mesh, the wall conductivity).
 """
 from __future__ import annotations
 
-import dataclasses
 import inspect
 import math
 import pathlib
 from dataclasses import dataclass
 from typing import Any, Optional
 
-import numpy as np
 
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.case.walls import Motion
@@ -71,7 +69,7 @@ MODES = ("mechanical", "thermal", "both")
 
 def __getattr__(name):
     if name == "CoupledStructure":
-        from gsi.coupling.structure import CoupledStructure
+        from gsi.coupling.coupled_structure import CoupledStructure
         return CoupledStructure
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
@@ -262,7 +260,7 @@ class Structure:
     # ------------------------------------------------------------------ validation
     def validate(self, path: str = "structure") -> None:
         """Checks of the values alone (the schema calls it with the key path)."""
-        import meshes
+        from gsi import meshes
         self._key = path or "structure"
         key = self._key
         if not self.name or any(ch in self.name for ch in "/\\ ") or self.name.startswith("."):
@@ -367,15 +365,15 @@ class Structure:
         return refs
 
     # ------------------------------------------------------------------ checks
-    def _file_path(self, base_dir) -> pathlib.Path:
+    def file_path(self, base_dir) -> pathlib.Path:
         return pathlib.Path(base_dir) / self.file
 
     def _mesh_groups(self, base_dir) -> tuple[list[str], str]:
         """(surface group names of the mesh, what to call the mesh in messages)."""
-        import meshes
+        from gsi import meshes
         if self.mesh is not None:
             return list(meshes.GROUPS[self.mesh]), f"the '{self.mesh}' builder"
-        f = self._file_path(base_dir)
+        f = self.file_path(base_dir)
         if not f.is_file():
             raise GsiInputError(f"{self.key}.file = '{self.file}': no such file (looked in "
                                 f"{pathlib.Path(base_dir).resolve()})")
@@ -385,7 +383,7 @@ class Structure:
                                 "'Physical Volume(\"name\") = {...};'")
         return list(g["surfaces"]), f.name
 
-    def _check_tags(self, groups: list[str], where: str) -> None:
+    def check_tags(self, groups: list[str], where: str) -> None:
         listed = ", ".join(groups) or "none"
         for k, v in self.tags.items():
             if v not in groups:
@@ -405,7 +403,7 @@ class Structure:
         wall material (:meth:`dem_wall_material`). Raises a one-line GsiInputError."""
         self.validate(path or self.key)
         groups, where = self._mesh_groups(base_dir)
-        self._check_tags(groups, where)
+        self.check_tags(groups, where)
         if materials is not None:
             self.dem_wall_material(materials)
 
@@ -459,35 +457,18 @@ class Structure:
         return name, derived
 
     # ------------------------------------------------------------------ build
+    def thermal_table(self):
+        """The ``thermal`` table, its defaults when the structure has heat but no table
+        (None without heat)."""
+        if self.has_heat and self.thermal is None:
+            return StructureThermal()
+        return self.thermal
+
     def load_mesh(self, *, comm, base_dir=".", root: int = 0):
-        """The distributed mesh with the ``tags`` mapping applied (collective): every key of
-        ``tags`` becomes one more name of its group, so either name works."""
-        import meshes
-        if self.mesh is not None:
-            sm = meshes.build(self.mesh, comm=comm, **self.geometry)
-        else:
-            f = self._file_path(base_dir)
-            msg = None
-            if comm.rank == root and not f.is_file():
-                msg = (f"{self.key}.file = '{self.file}': no such file (looked in "
-                       f"{pathlib.Path(base_dir).resolve()})")
-            msg = comm.bcast(msg, root=root)
-            if msg:
-                raise GsiInputError(msg)
-            sm = meshes.load_file(f, params=self.geometry, comm=comm, root=root, key=self.key)
-        groups = [n for n in sm.tags if n != "volume"]
-        where = self.mesh and f"the '{self.mesh}' builder" or pathlib.Path(self.file).name
-        self._check_tags(groups, where)
-        for k, v in self.tags.items():
-            if k in sm.tags and sm.tags[k] != sm.tags[v]:
-                raise GsiInputError(f"{self.key}.tags.{k} = '{v}': the mesh already has a "
-                                    f"group '{k}'; map another name")
-            sm.tags[k] = sm.tags[v]
-        if any(self.translate):
-            from gsi.fem import compat
-            x = compat.geometry_x(sm.mesh)
-            x[:, :3] += np.asarray(self.translate, float)
-        return sm
+        """The distributed mesh with the ``tags`` mapping applied (collective;
+        :func:`gsi.case.build_structure.load_mesh`)."""
+        from gsi.case.build_structure import load_mesh
+        return load_mesh(self, comm=comm, base_dir=base_dir, root=root)
 
     def build(self, *, comm, dt_dem: float, gravity=(0.0, 0.0, -9.81), base_dir=".",
               heat_scale: float = 1.0, root: int = 0):
@@ -511,75 +492,8 @@ class Structure:
 
         Returns
         -------
-        gsi.coupling.structure.CoupledStructure
+        gsi.coupling.coupled_structure.CoupledStructure
         """
-        import numpy as np
-        from gsi.coupling.interface import SurfaceInterface
-        from gsi.coupling.staggered import choose_n_sub, lowest_period
-        from gsi.coupling.structure import CoupledStructure
-        from gsi.fem.elasticity import Elasticity
-        from gsi.fem.heat import Heat
-        self.validate(self.key)
-        if not (dt_dem > 0 and math.isfinite(dt_dem)):
-            raise GsiInputError(f"run.dt = {dt_dem!r}: must be > 0 (s)")
-        if not (heat_scale > 0 and math.isfinite(heat_scale)):
-            raise GsiInputError(f"heat_scale = {heat_scale!r}: must be > 0")
-        sm = self.load_mesh(comm=comm, base_dir=base_dir, root=root)
-        mat = self.structural_material()
-        co, th = self.contact, self.thermal
-        if self.has_heat and th is None:
-            th = StructureThermal()
-        T_ref = th.T_ref if th is not None else 0.0
-        T_init = (th.T_initial if th.T_initial is not None else th.T_ref) if th is not None else None
-        g = np.asarray(gravity, float)
-        el = None
-        T_1, a0 = math.nan, self.rayleigh[0]
-        if self.has_elasticity:
-            solve = dict(solver=self.solver, petsc_options=self.petsc,
-                         options_key=f"{self.key}.petsc")
-            static = Elasticity(sm, mat, degree=self.degree, T_ref=T_ref, **solve)
-            for tag in self.supports:
-                static.clamp(tag)
-            direction = g if np.any(g) else (0.0, 0.0, -1.0)
-            T_1 = lowest_period(static, direction=direction)
-            n_sub = co.n_sub or choose_n_sub(dt_dem, T_1, steps_per_period=co.steps_per_period)
-            if self.damping_ratio is not None:
-                a0 = 2.0 * self.damping_ratio * 2.0 * math.pi / T_1
-            body = g if self.self_weight else (0.0, 0.0, 0.0)
-            if self.scheme == "static":
-                el = static
-                el.set_gravity(body)
-            else:
-                el = Elasticity(sm, mat, degree=self.degree, scheme=self.scheme,
-                                dt=n_sub * dt_dem, rho_inf=self.rho_inf,
-                                rayleigh=(a0, self.rayleigh[1]), gravity=body, T_ref=T_ref,
-                                **solve)
-                for tag in self.supports:
-                    el.clamp(tag)
-            for ld in self.loads:
-                el.set_traction(ld.tag, ld.traction)
-            if T_init is not None:
-                el.set_temperature(T_init)
-        else:
-            n_sub = co.n_sub
-        heat = None
-        if self.has_heat:
-            heat = Heat(sm, dataclasses.replace(mat, c=mat.c / heat_scale), dt=n_sub * dt_dem,
-                        theta=th.theta, T_initial=T_init,
-                        theta_key=f"{self.key}.thermal.theta", solver=self.solver,
-                        petsc_options=th.petsc, options_key=f"{self.key}.thermal.petsc")
-            for cv in th.convection:
-                heat.set_convection(cv.tag, cv.h, cv.T_ambient)
-            for fx in th.fixed:
-                heat.fix_temperature(fx.tag, fx.T)
-            for fl in th.flux:
-                heat.set_flux(fl.tag, fl.q)
-            for rd in th.radiation:
-                heat.set_radiation(rd.tag, rd.emissivity, rd.T_ambient)
-            heat.check_stability()          # theta < 0.5: dt_FE under the explicit limit
-        itf = SurfaceInterface(el, heat=heat, tag=co.tags)
-        return CoupledStructure(
-            name=self.name, mesh=sm, material=mat, elasticity=el, heat=heat, interface=itf,
-            n_sub=n_sub, dt_dem=dt_dem, T_1=T_1, a0=a0, mode=co.mode,
-            wall_material=self.wall_material_name(), relaxation=co.relaxation, T_ref=T_ref,
-            heat_scale=heat_scale, root=root)
+        from gsi.case.build_structure import build_structure
+        return build_structure(self, comm=comm, dt_dem=dt_dem, gravity=gravity,
+                               base_dir=base_dir, heat_scale=heat_scale, root=root)

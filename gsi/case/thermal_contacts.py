@@ -64,7 +64,7 @@ def build_contact_groups(contacts, built: dict) -> list:
     """One :class:`gsi.fem.contact_heat.ContactHeatSystem` per connected set of contacts.
 
     ``contacts``: the case's ThermalContact tables; ``built``: name -> built structure
-    (:class:`gsi.coupling.structure.CoupledStructure`)."""
+    (:class:`gsi.coupling.coupled_structure.CoupledStructure`)."""
     from gsi.fem.contact_heat import ContactHeatSystem
     from gsi.fem.contact_heat import ThermalContact as FeContact
     fe = []

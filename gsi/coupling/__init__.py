@@ -9,7 +9,7 @@
   :func:`~gsi.coupling.staggered.lowest_period`, :func:`~gsi.coupling.staggered.choose_n_sub`.
 * :class:`~gsi.coupling.thermal.ThermalCoupling` -- heat (and thermo-elastic) coupling;
   :func:`~gsi.coupling.thermal.scale_heat_capacity` (the heat-capacity time scaling).
-* :class:`~gsi.coupling.structure.CoupledStructure` -- a built structure with its wall and
+* :class:`~gsi.coupling.coupled_structure.CoupledStructure` -- a built structure with its wall and
   couplings, driven by a runner (``attach``, ``begin``, DEM steps, ``finish``); made by
   :meth:`gsi.case.structure.Structure.build`.
 
@@ -20,14 +20,14 @@ from importlib import import_module
 _EXPORTS = {
     "SurfaceInterface": "interface",
     "StaggeredCoupling": "staggered",
-    "CouplingRecord": "staggered",
+    "MechanicalRecord": "records",
     "lowest_period": "staggered",
     "choose_n_sub": "staggered",
     "ThermalCoupling": "thermal",
-    "CouplingStep": "thermal",
+    "ThermalRecord": "records",
     "scale_heat_capacity": "thermal",
-    "CoupledStructure": "structure",
-    "IntervalRecord": "structure",
+    "CoupledStructure": "coupled_structure",
+    "IntervalRecord": "coupled_structure",
 }
 
 __all__ = list(_EXPORTS)

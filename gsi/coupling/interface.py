@@ -1,7 +1,7 @@
 r"""The FE contact surface as a DEM mesh wall: forces and heat to the FE, motion and
 temperature to the DEM. One interface serves the mechanical and the thermal coupling.
 
-DESIGN.md "Coupling". The tagged contact surface of the structure
+docs/design.md, "Coupling". The tagged contact surface of the structure
 (:class:`gsi.fem.surface.ContactSurface`: boundary triangles whose vertices are FE mesh
 vertices, gathered on every rank in a rank-independent order) becomes one
 :class:`gsi.dem.MeshWall`. Contact is two-sided closest-point, so the triangles'

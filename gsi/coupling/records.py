@@ -1,5 +1,10 @@
 """The per-interval records of a coupling: kept in memory, appended to a CSV as they come.
 
+One name per idea: a coupling interval (n_sub DEM steps, one FE step) leaves a
+:class:`MechanicalRecord` (forces and motion, :mod:`gsi.coupling.staggered`) and/or a
+:class:`ThermalRecord` (heat, :mod:`gsi.coupling.thermal`); a structure's interval
+returns both in one :class:`gsi.coupling.coupled_structure.IntervalRecord`.
+
 :class:`RecordLog` is the part :class:`gsi.coupling.staggered.StaggeredCoupling` and
 :class:`gsi.coupling.thermal.ThermalCoupling` share: a record is a dataclass row
 (``RECORD``), its fields are the CSV columns, each row is appended (and closed) when it is
@@ -14,7 +19,65 @@ import pathlib
 
 import numpy as np
 
-__all__ = ["RecordLog"]
+__all__ = ["RecordLog", "MechanicalRecord", "ThermalRecord"]
+
+
+@dataclasses.dataclass
+class MechanicalRecord:
+    """One interval of the mechanical coupling (SI units; :mod:`gsi.coupling.staggered`)."""
+
+    step: int
+    t: float              # s, time at the end of the step
+    load_x: float         # N, sum of the nodal loads held by the FE
+    load_y: float
+    load_z: float
+    wall_force_x: float   # N, -impulse_on_particles / dt_FE
+    wall_force_y: float
+    wall_force_z: float
+    balance_rel: float    # -, |load - wall_force| / |wall_force|
+    work_step: float      # J, sum P . du over the step
+    work: float           # J, cumulative
+    max_deflection: float  # m, largest |u| at the interface nodes
+    min_uz: float         # m, lowest vertical displacement at the interface nodes
+    n_particles: int
+    n_loaded_triangles: int  # wall triangles touched by particles at the last DEM step
+    wall_dem: float       # s of wall-clock time in the DEM sub-cycle (rank root)
+    wall_fe: float        # s in the FE step/solve
+    wall_transfer: float  # s in gathering, broadcasting and applying loads and positions
+
+
+
+@dataclasses.dataclass
+class ThermalRecord:
+    """The energy record and key numbers of one interval of the heat coupling (SI units;
+    :mod:`gsi.coupling.thermal`)."""
+
+    step: int
+    t: float                 # s, simulated time at the end of the step
+    t_thermal: float         # s, time of the physical system (time_scale * t)
+    Q_particles: float       # J, heat leaving the particles into the wall over the step
+    Q_radiation: float       # J, the part of Q_particles carried by radiation
+    Q_structure: float       # J, heat entering the structure through the nodal loads
+    balance_error: float     # J, Q_structure - Q_particles
+    heat_flow: float         # W, Q_structure / dt_FE: heat flow into the wall
+    Q_boundary_loss: float   # J, heat leaving the structure through its boundary (convection)
+    Q_planes: float          # J, heat from DEM planes with a temperature (and the radiation
+                             # enclosure) into the particles
+    Q_contact: float         # J, heat into the structure from FE-FE contacts (other bodies)
+    E_particles: float       # J, sum m c_p (T - T_ref)
+    E_structure: float       # J, int rho c (T - T_ref) dx
+    drift: float             # J, total energy drift since the start
+    T_wall_max: float        # max nodal structure temperature
+    T_wall_mean: float       # volume mean structure temperature
+    T_contact_max: float     # max temperature at the contact-surface vertices
+    T_particles_mean: float  # mass-heat-capacity weighted mean particle temperature
+    T_particles_max: float
+    max_von_mises: float     # Pa (nan without elasticity)
+    max_displacement: float  # m (nan without elasticity)
+    wall_force_z: float      # N, time-averaged z force of the particles on the wall
+    n_particles: int
+    n_contacts: int
+
 
 
 def _fmt(v) -> str:

@@ -1,6 +1,6 @@
 r"""Two-way staggered coupling of the DEM to an elastic FE structure (forces and motion).
 
-DESIGN.md "Coupling". One coupling step of size dt_FE = n_sub dt_DEM, from t_k to t_k+1:
+docs/design.md, "Coupling". One coupling step of size dt_FE = n_sub dt_DEM, from t_k to t_k+1:
 
 1. The DEM wall (:class:`gsi.coupling.interface.SurfaceInterface` as a mesh wall) has the
    FE positions x_k = x0 + u_k and velocities v_k; during the n_sub DEM steps its vertices
@@ -14,7 +14,7 @@ DESIGN.md "Coupling". One coupling step of size dt_FE = n_sub dt_DEM, from t_k t
    K u = P each coupling step; the wall velocity is then (u_k+1 - u_k)/dt_FE).
 4. The wall takes the new positions x0 + u_k+1 and velocities v_k+1.
 
-Balance record (:class:`CouplingRecord`, in ``records`` and a CSV), every coupling step:
+Balance record (:class:`MechanicalRecord`, in ``records`` and a CSV), every coupling step:
 
 * ``load`` = sum over the FE's owned dofs, all ranks, of the nodal loads it actually
   holds (N) -- after the broadcast and the scatter to the owners;
@@ -24,7 +24,7 @@ Balance record (:class:`CouplingRecord`, in ``records`` and a CSV), every coupli
 * ``work_step`` = sum over nodes of P_k . (u_k+1 - u_k) (J), the work of the interface
   loads on the structure over the step, and ``work`` its running sum.
 
-Choice of n_sub (DESIGN.md is silent; documented here): the structure's lowest period
+Choice of n_sub (docs/design.md is silent; documented here): the structure's lowest period
 T_1 is estimated by Rayleigh's quotient with the static deflection shape under a uniform
 body force, omega_1^2 ~ u^T K u / u^T M u (an upper bound on omega_1 within a few
 percent for a plate's fundamental mode; :func:`lowest_period`). The coupling step is the
@@ -35,7 +35,7 @@ doubles the FE cost: FE + transfer measured 18 % instead of 10 % of the coupled 
 time in the quick hopper demo, benchmarks/coupled_hopper.py):
 n_sub = max(1, floor(T_1 / (steps_per_period dt_DEM))). A user-given n_sub overrides it.
 
-Stability (measured; DESIGN.md is silent): explicit staggering lags the interface force
+Stability (measured; docs/design.md is silent): explicit staggering lags the interface force
 by about half an FE step. When the particles resting on the structure outweigh it and
 dt_FE is long compared with their contact period, a step-to-step (period 2 dt_FE)
 oscillation grows: in the full hopper demo, once the heap (3 kg) outweighed the membrane
@@ -66,10 +66,10 @@ import time
 import numpy as np
 from mpi4py import MPI
 
-from gsi.coupling.records import RecordLog
+from gsi.coupling.records import MechanicalRecord, RecordLog
 from gsi.errors import GsiInputError
 
-__all__ = ["StaggeredCoupling", "CouplingRecord", "lowest_period", "choose_n_sub"]
+__all__ = ["StaggeredCoupling", "MechanicalRecord", "lowest_period", "choose_n_sub"]
 
 
 def lowest_period(static, *, direction=(0.0, 0.0, -1.0)) -> float:
@@ -115,31 +115,7 @@ def choose_n_sub(dt_dem: float, T_1: float, *, steps_per_period: float = 20.0) -
     return max(1, int(math.floor(T_1 / (steps_per_period * dt_dem) * (1 + 1e-12))))
 
 
-@dataclasses.dataclass
-class CouplingRecord:
-    """One coupling step (SI units; see the module docstring)."""
-
-    step: int
-    t: float              # s, time at the end of the step
-    load_x: float         # N, sum of the nodal loads held by the FE
-    load_y: float
-    load_z: float
-    wall_force_x: float   # N, -impulse_on_particles / dt_FE
-    wall_force_y: float
-    wall_force_z: float
-    balance_rel: float    # -, |load - wall_force| / |wall_force|
-    work_step: float      # J, sum P . du over the step
-    work: float           # J, cumulative
-    max_deflection: float  # m, largest |u| at the interface nodes
-    min_uz: float         # m, lowest vertical displacement at the interface nodes
-    n_particles: int
-    n_loaded_triangles: int  # wall triangles touched by particles at the last DEM step
-    wall_dem: float       # s of wall-clock time in the DEM sub-cycle (rank root)
-    wall_fe: float        # s in the FE step/solve
-    wall_transfer: float  # s in gathering, broadcasting and applying loads and positions
-
-
-CSV_COLUMNS = [f.name for f in dataclasses.fields(CouplingRecord)]
+CSV_COLUMNS = [f.name for f in dataclasses.fields(MechanicalRecord)]
 
 
 class StaggeredCoupling(RecordLog):
@@ -181,7 +157,7 @@ class StaggeredCoupling(RecordLog):
         The coupled wall in the DEM (rank ``root`` only).
     dt : float
         Coupling (FE) step n_sub dt_DEM (s).
-    records : list of CouplingRecord
+    records : list of MechanicalRecord
         One per coupling step; :meth:`history` gives them as arrays.
     last_loads : ndarray (n_nodes, 3)
         Nodal loads of the last step (N), on every rank.
@@ -195,7 +171,7 @@ class StaggeredCoupling(RecordLog):
     the linear structure stays at rest exactly (filling phases cost no FE time).
     """
 
-    RECORD = CouplingRecord
+    RECORD = MechanicalRecord
 
     def __init__(self, sim, elasticity, *, wall_material: str, n_sub: int,
                  tag="contact", relaxation: float = 1.0, root: int = 0,
@@ -256,7 +232,7 @@ class StaggeredCoupling(RecordLog):
             self._dem_step0 = self.sim.step_count
         self._t_begin = time.perf_counter()
 
-    def finish(self) -> CouplingRecord:
+    def finish(self) -> MechanicalRecord:
         """End the interval after the DEM's ``n_sub`` steps (collective): sub-cycle-averaged
         loads to the FE, FE step, wall update. Returns the interval's record."""
         if self._t_begin is None:
@@ -282,8 +258,7 @@ class StaggeredCoupling(RecordLog):
         wall_force, n_particles, n_contacts, no_contact = info
         if no_contact and self._at_rest():
             # exact shortcut: a linear structure at rest without any load stays at rest
-            el.t += self.dt
-            el.n_steps += 1
+            el.advance_time(self.dt)
             return self._record(load, wall_force, 0.0, self._u, n_particles, n_contacts,
                                 t1 - t0, time.perf_counter() - t2, t2 - t1)
         if self.static:
@@ -302,7 +277,7 @@ class StaggeredCoupling(RecordLog):
         return self._record(load, wall_force, work_step, u, n_particles, n_contacts,
                             t1 - t0, t3 - t2, (t2 - t1) + (time.perf_counter() - t3))
 
-    def step(self) -> CouplingRecord:
+    def step(self) -> MechanicalRecord:
         """One coupling step (collective): :meth:`begin`, the DEM sub-cycle of ``n_sub``
         steps on ``root``, :meth:`finish`."""
         self.begin()
@@ -320,7 +295,7 @@ class StaggeredCoupling(RecordLog):
         return not self.comm.allreduce(busy, op=MPI.LOR)
 
     def _record(self, load, wall_force, work_step, u, n_particles, n_contacts, t_dem, t_fe,
-                t_transfer) -> CouplingRecord:
+                t_transfer) -> MechanicalRecord:
         self.work += work_step
         self.step_count += 1
         self.t += self.dt
@@ -328,7 +303,7 @@ class StaggeredCoupling(RecordLog):
         bal = float(np.linalg.norm(load - wall_force)) / ref if ref > 0 else \
             float(np.linalg.norm(load))
         umag = np.sqrt((u ** 2).sum(axis=1))
-        rec = CouplingRecord(
+        rec = MechanicalRecord(
             step=self.step_count, t=self.t, load_x=load[0], load_y=load[1], load_z=load[2],
             wall_force_x=wall_force[0], wall_force_y=wall_force[1],
             wall_force_z=wall_force[2], balance_rel=bal, work_step=work_step,

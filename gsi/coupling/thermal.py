@@ -1,6 +1,6 @@
 r"""Thermal (and thermo-mechanical) staggered coupling of the DEM to an FE structure.
 
-DESIGN.md "Coupling", "Heat in particles", "Thermo-elastic". One coupling step of size
+docs/design.md, "Coupling", "Heat in particles", "Thermo-elastic". One coupling step of size
 dt_FE = n_sub dt_DEM:
 
 1. The DEM wall (a :class:`gsi.dem.MeshWall` made of the triangles of the contact
@@ -30,7 +30,7 @@ dt_FE = n_sub dt_DEM:
    coupling step, O(dt_FE) against thermal time scales of seconds to hours. (A hook in
    StaggeredCoupling.step between the load transfer and the solve would remove the lag.)
 
-Energy record, per coupling step (``CouplingStep``; also ``energy.csv``):
+Energy record, per coupling step (``ThermalRecord``; also ``energy.csv``):
 
 * ``Q_particles`` heat leaving the particles into this wall over the step (J), conduction
   and (``dem.radiation``, :mod:`gsi.dem.radiation`) radiation; ``Q_radiation`` the
@@ -84,10 +84,10 @@ import pathlib
 import numpy as np
 from mpi4py import MPI
 
-from gsi.coupling.records import RecordLog
+from gsi.coupling.records import RecordLog, ThermalRecord
 from gsi.errors import GsiInputError
 
-__all__ = ["ThermalCoupling", "CouplingStep", "scale_heat_capacity", "particle_heat_capacity",
+__all__ = ["ThermalCoupling", "ThermalRecord", "scale_heat_capacity", "particle_heat_capacity",
            "load_nodal_heat", "BoundaryMeter"]
 
 
@@ -104,38 +104,7 @@ def particle_heat_capacity(sim) -> np.ndarray:
     return np.asarray(sim.heat_capacity, float)
 
 
-@dataclasses.dataclass
-class CouplingStep:
-    """The energy record and key numbers of one coupling step (SI units, see module doc)."""
-
-    step: int
-    t: float                 # s, simulated time at the end of the step
-    t_thermal: float         # s, time of the physical system (time_scale * t)
-    Q_particles: float       # J, heat leaving the particles into the wall over the step
-    Q_radiation: float       # J, the part of Q_particles carried by radiation
-    Q_structure: float       # J, heat entering the structure through the nodal loads
-    balance_error: float     # J, Q_structure - Q_particles
-    heat_flow: float         # W, Q_structure / dt_FE: heat flow into the wall
-    Q_boundary_loss: float   # J, heat leaving the structure through its boundary (convection)
-    Q_planes: float          # J, heat from DEM planes with a temperature (and the radiation
-                             # enclosure) into the particles
-    Q_contact: float         # J, heat into the structure from FE-FE contacts (other bodies)
-    E_particles: float       # J, sum m c_p (T - T_ref)
-    E_structure: float       # J, int rho c (T - T_ref) dx
-    drift: float             # J, total energy drift since the start
-    T_wall_max: float        # max nodal structure temperature
-    T_wall_mean: float       # volume mean structure temperature
-    T_contact_max: float     # max temperature at the contact-surface vertices
-    T_particles_mean: float  # mass-heat-capacity weighted mean particle temperature
-    T_particles_max: float
-    max_von_mises: float     # Pa (nan without elasticity)
-    max_displacement: float  # m (nan without elasticity)
-    wall_force_z: float      # N, time-averaged z force of the particles on the wall
-    n_particles: int
-    n_contacts: int
-
-
-CSV_COLUMNS = [f.name for f in dataclasses.fields(CouplingStep)]
+CSV_COLUMNS = [f.name for f in dataclasses.fields(ThermalRecord)]
 
 
 class ThermalCoupling(RecordLog):
@@ -178,7 +147,7 @@ class ThermalCoupling(RecordLog):
         Write the per-step records there as CSV (rank ``root``).
     """
 
-    RECORD = CouplingStep
+    RECORD = ThermalRecord
 
     def __init__(self, sim, heat, *, mechanics=None, interface=None,
                  wall_material: str | None = None, n_sub: int | None = None, tag="contact",
@@ -298,7 +267,7 @@ class ThermalCoupling(RecordLog):
             self._dem_step0 = self.sim.step_count
         self._interval = dict(planes0=planes0)
 
-    def finish(self) -> CouplingStep:
+    def finish(self) -> ThermalRecord:
         """End the interval after the DEM's ``n_sub`` steps (collective): forces and motion
         (``mechanics``), heat loads to the FE, heat step to T_k+1. Returns the record."""
         self.load_heat()
@@ -338,7 +307,7 @@ class ThermalCoupling(RecordLog):
                         root=root)
         self._pending = dict(info=info, meter=BoundaryMeter(heat), n_steps=heat.n_steps)
 
-    def record(self) -> CouplingStep:
+    def record(self) -> ThermalRecord:
         """Last part of :meth:`finish`, after the heat step (collective): the energy record
         of the interval."""
         pending, self._pending = getattr(self, "_pending", None), None
@@ -364,7 +333,7 @@ class ThermalCoupling(RecordLog):
         drift = E_p + E_s + self._cum_loss - self._cum_planes - self._cum_contact - self._E0
         _, T_max = heat.min_max()
         m = heat.material
-        rec = CouplingStep(
+        rec = ThermalRecord(
             step=self.step_count, t=self.t, t_thermal=self.time_scale * self.t,
             Q_particles=info["Q_particles"], Q_radiation=info["Q_radiation"],
             Q_structure=Q_structure,
@@ -377,7 +346,7 @@ class ThermalCoupling(RecordLog):
             wall_force_z=info["Fz"], n_particles=info["n"], n_contacts=info["nc"])
         return self._log(rec)
 
-    def step(self) -> CouplingStep:
+    def step(self) -> ThermalRecord:
         """One coupling step (collective): :meth:`begin`, the DEM sub-cycle of ``n_sub``
         steps on ``root`` with the wall at T_k, :meth:`finish`."""
         self.begin()

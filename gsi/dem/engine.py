@@ -69,14 +69,14 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     wc = WallContacts(*wct)
     heat_on = model[M_HEAT] != 0
     # pair batch: lanes, lane -> pair row, partner, table row; batch rows and their lanes
-    B = np.empty(NB * CH)
+    B = np.zeros(NB * CH)     # zeros: see gsi.dem.contact.model.evaluate
     lk = np.empty(CH, np.uint64)
     lj = np.empty(CH, np.uint64)
     lrow = np.empty(CH, np.int64)
     brow = np.empty(CH, np.int64)
     blane = np.zeros(CH + 1, np.uint64)
     # wall batch: lanes, lane -> particle, kind, spring row, plane or slot, table row
-    W = np.empty(NB * CH)
+    W = np.zeros(NB * CH)
     wi = np.empty(CH, np.int64)
     wkind = np.empty(CH, np.int64)
     wk = np.empty(CH, np.int64)

@@ -87,16 +87,21 @@ def none(a2, ri, rj, tab, row):
 
 @njit(_nrt=False)
 def area_lanes(l0, l1, B, tab, row, dt):
-    """Q = H (T_j - T_i) of lanes l0..l1-1, H of :func:`area`."""
+    """Q = H (T_j - T_i) of lanes l0..l1-1, H of :func:`area` (the table value read once:
+    read in the loop, LLVM cannot prove it apart from the buffer's stores)."""
+    kh = tab[row, P_KH]
     for l in range(uint(l0), uint(l1)):
-        B[Q + l] = area(B[A2 + l], B[RI + l], B[RJ + l], tab, row) * B[DTEMP + l]
+        a2 = B[A2 + l]
+        B[Q + l] = (kh * sqrt(math.pi * a2) if a2 > 0.0 else 0.0) * B[DTEMP + l]
 
 
 @njit(_nrt=False)
 def radius_lanes(l0, l1, B, tab, row, dt):
     """Q = H (T_j - T_i) of lanes l0..l1-1, H of :func:`radius`."""
+    kh = tab[row, P_KH]
     for l in range(uint(l0), uint(l1)):
-        B[Q + l] = radius(B[A2 + l], B[RI + l], B[RJ + l], tab, row) * B[DTEMP + l]
+        a2 = B[A2 + l]
+        B[Q + l] = (kh * sqrt(a2) if a2 > 0.0 else 0.0) * B[DTEMP + l]
 
 
 @njit(_nrt=False)

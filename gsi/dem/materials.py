@@ -38,6 +38,11 @@ from gsi.errors import GsiInputError
 N_PAIR = 14
 
 
+#: the one set of material defaults (DEM and case layer): restitution, sliding and
+#: rolling friction (-), conductivity (W/(m K)), specific heat capacity (J/(kg K))
+MATERIAL_DEFAULTS = dict(e=0.5, mu=0.5, mu_r=0.0, k=1.0, cp=1000.0)
+
+
 @dataclass(frozen=True)
 class Material:
     """Properties of one particle or wall material.
@@ -58,8 +63,11 @@ class Material:
         Rolling friction coefficient (-), >= 0 (used when rolling resistance is on).
     k : float, default 1.0
         Thermal conductivity (W/(m K)), > 0.
-    cp : float, default 840.0
+    cp : float, default 1000.0
         Specific heat capacity (J/(kg K)), > 0.
+
+    The defaults are :data:`MATERIAL_DEFAULTS`, the same as a case's ``[materials.NAME]``
+    (:class:`gsi.case.materials.Material`).
     """
 
     E: float
@@ -69,7 +77,7 @@ class Material:
     mu: float = 0.5
     mu_r: float = 0.0
     k: float = 1.0
-    cp: float = 840.0
+    cp: float = 1000.0
 
     def validate(self, name):
         """Raise :class:`GsiInputError` naming ``materials.<name>.<key>`` if a value is bad."""

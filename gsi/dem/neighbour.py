@@ -1,7 +1,8 @@
 """Neighbour search: cell-linked list and half Verlet list with skin; triangle candidates.
 
 - The domain box is cut into cells no smaller than 2 R_max + skin, so the 27 cells
-  around a particle hold all its possible partners.
+  around a particle hold all its possible partners (the grid and its walk:
+  :mod:`gsi.dem.cells`).
 - Half list: pair (i, j) is stored once when |x_i - x_j| < R_i + R_j + skin, by the
   particle in the lower *slab* (slabs: layers at least one cutoff thick along the axis
   where the particles spread most, see :func:`slab_layout`; ties by the smaller
@@ -25,91 +26,44 @@ import numpy as np
 from gsi.jit import njit, pjit, prange
 from gsi.dem.geometry import closest_point_triangle
 from gsi.dem.contact_geometry import plane_distance
+from gsi.dem.cells import cell_coords, neighbour_cell
 
 
-def grid_for(lo, hi, cell_min, n):
-    """Cell grid of the domain: ``(dims (3,) int64, inv_cs (3,) float)``.
-
-    Cells are at least ``cell_min`` (m) wide; the count is capped near max(4096, 8 n)
-    by widening them (a sparse system in a large box).
-    """
-    lo = np.asarray(lo, float)
-    hi = np.asarray(hi, float)
-    ext = hi - lo
-    cs = max(cell_min, 1e-300)
-    while True:
-        dims = np.maximum(1, np.floor(ext / cs)).astype(np.int64)
-        if dims.prod() <= max(4096, 8 * n):
-            break
-        cs *= 1.26
-    return dims, dims / ext
-
-
-@njit
-def cell_index(n, x, lo, inv_cs, dims, cell_of):
-    """Cell of each particle (clamped into the grid)."""
-    for i in range(n):
-        c = 0
-        for d in range(3):          # c = (kx dims[1] + ky) dims[2] + kz
-            k = int(math.floor((x[i, d] - lo[d]) * inv_cs[d]))
-            if k < 0:
-                k = 0
-            elif k >= dims[d]:
-                k = dims[d] - 1
-            c = c * dims[d] + k
-        cell_of[i] = c
-
-
-@njit
-def bin_cells(n, cell_of, ncell):
-    """Counting sort of particles by cell: ``(cell_start (ncell+1), cell_list (n))``."""
-    cell_start = np.zeros(ncell + 1, np.int64)
-    for i in range(n):
-        cell_start[cell_of[i] + 1] += 1
-    for c in range(ncell):
-        cell_start[c + 1] += cell_start[c]
-    fill = cell_start[:-1].copy()
-    cell_list = np.empty(n, np.int32)
-    for i in range(n):
-        c = cell_of[i]
-        cell_list[fill[c]] = i
-        fill[c] += 1
-    return cell_start, cell_list
-
-
-@njit
-def _unravel(c, dims):
-    cx = c // (dims[1] * dims[2])
-    r = c - cx * dims[1] * dims[2]
-    cy = r // dims[2]
-    cz = r - cy * dims[2]
-    return cx, cy, cz
+@njit(inline="always")
+def _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_j, pos,
+              fill):
+    """The half-list partners of particle i (within R_i + R_j + skin, in a higher slab,
+    or in the same slab with a higher index), found in the 27 cells around it: their
+    number, and with ``fill`` each written to ``nb_j[pos], nb_j[pos + 1], ...``."""
+    cx, cy, cz = cell_coords(cell_of[i], dims)
+    cnt = 0
+    ri = radius[i]
+    si = slab_of[i]
+    for k in range(27):
+        c2 = neighbour_cell(cx, cy, cz, k, dims)
+        if c2 >= 0:
+            for m in range(cell_start[c2], cell_start[c2 + 1]):
+                j = cell_list[m]
+                sj = slab_of[j]
+                if sj < si or (sj == si and j <= i):
+                    continue
+                rc = ri + radius[j] + skin
+                d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
+                      + (x[j, 2] - x[i, 2]) ** 2)
+                if d2 < rc * rc:
+                    if fill:
+                        nb_j[pos + cnt] = j
+                    cnt += 1
+    return cnt
 
 
 @pjit
 def count_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, counts):
-    """Number of half-list partners of each particle (within R_i + R_j + skin, in a
-    higher slab, or in the same slab with a higher index)."""
+    """Number of half-list partners of each particle (:func:`_partners`)."""
+    none = np.zeros(0, np.int32)
     for i in prange(n):
-        cx, cy, cz = _unravel(cell_of[i], dims)
-        cnt = 0
-        ri = radius[i]
-        si = slab_of[i]
-        for ax in range(max(cx - 1, 0), min(cx + 2, dims[0])):
-            for ay in range(max(cy - 1, 0), min(cy + 2, dims[1])):
-                for az in range(max(cz - 1, 0), min(cz + 2, dims[2])):
-                    c2 = (ax * dims[1] + ay) * dims[2] + az
-                    for m in range(cell_start[c2], cell_start[c2 + 1]):
-                        j = cell_list[m]
-                        sj = slab_of[j]
-                        if sj < si or (sj == si and j <= i):
-                            continue
-                        rc = ri + radius[j] + skin
-                        d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
-                              + (x[j, 2] - x[i, 2]) ** 2)
-                        if d2 < rc * rc:
-                            cnt += 1
-        counts[i] = cnt
+        counts[i] = _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list,
+                              dims, none, 0, False)
 
 
 @pjit
@@ -117,25 +71,8 @@ def fill_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims
                nb_j):
     """Partners of each particle into ``nb_j[nb_start[i]:nb_start[i+1]]``."""
     for i in prange(n):
-        cx, cy, cz = _unravel(cell_of[i], dims)
-        pos = nb_start[i]
-        ri = radius[i]
-        si = slab_of[i]
-        for ax in range(max(cx - 1, 0), min(cx + 2, dims[0])):
-            for ay in range(max(cy - 1, 0), min(cy + 2, dims[1])):
-                for az in range(max(cz - 1, 0), min(cz + 2, dims[2])):
-                    c2 = (ax * dims[1] + ay) * dims[2] + az
-                    for m in range(cell_start[c2], cell_start[c2 + 1]):
-                        j = cell_list[m]
-                        sj = slab_of[j]
-                        if sj < si or (sj == si and j <= i):
-                            continue
-                        rc = ri + radius[j] + skin
-                        d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
-                              + (x[j, 2] - x[i, 2]) ** 2)
-                        if d2 < rc * rc:
-                            nb_j[pos] = j
-                            pos += 1
+        _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_j,
+                  nb_start[i], True)
 
 
 #: particles per slab at least (on average) in a serial run of a small system: a slab

@@ -1,5 +1,7 @@
 """Particle and wall output as VTK XML files that ParaView opens (no VTK dependency).
 
+- :class:`PvdSeries` is a ParaView time series ``<prefix>.pvd`` of ``<prefix>_<k>.vtu``
+  files (rewritten atomically after every file; an earlier run's continued with ``times``).
 - :class:`ParticleWriter` writes one ``<prefix>_<k>.vtu`` per call of ``write(sim)`` (an
   UnstructuredGrid of vertex cells) with point data radius, velocity, speed, omega,
   temperature, type, contact_count, id, and rewrites ``<prefix>.pvd`` (the time series)
@@ -15,6 +17,7 @@ Arrays are written inline as base64 binary (``format="binary"``, UInt64 headers)
 import base64
 import os
 import pathlib
+import re
 
 import numpy as np
 
@@ -51,7 +54,8 @@ def _unstructured(points, conn, offsets, types, point_data, cell_data):
         '</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n')
 
 
-def _write_atomic(path, text):
+def write_text_atomic(path, text):
+    """Write ``text`` to ``path`` through a temporary file ``<path>.tmp<pid>``."""
     tmp = f"{path}.tmp{os.getpid()}"
     with open(tmp, "w") as fh:
         fh.write(text)
@@ -66,7 +70,7 @@ def write_particles_vtu(path, sim):
         "omega": sim.omega, "temperature": sim.T, "type": sim.type.astype(np.int32),
         "contact_count": sim.ncontact.astype(np.int32), "id": sim.ids.astype(np.int64),
     }
-    _write_atomic(path, _unstructured(sim.x, np.arange(n), np.arange(1, n + 1),
+    write_text_atomic(path, _unstructured(sim.x, np.arange(n), np.arange(1, n + 1),
                                       np.ones(n, np.uint8), pd, {}))
 
 
@@ -77,7 +81,7 @@ def write_wall_vtu(path, wall):
           "vertex_heat": wall.vertex_heat}
     if wall.vertex_temperature is not None:
         pd["vertex_temperature"] = wall.vertex_temperature
-    _write_atomic(path, _unstructured(wall.vertices, tri.ravel(), 3 * np.arange(1, len(tri) + 1),
+    write_text_atomic(path, _unstructured(wall.vertices, tri.ravel(), 3 * np.arange(1, len(tri) + 1),
                                       np.full(len(tri), 5, np.uint8), pd,
                                       {"triangle_force": wall.triangle_force}))
 
@@ -86,11 +90,62 @@ def write_surface_vtu(path, vertices, triangles, *, point_data=None):
     """Triangles (nt, 3) over ``vertices`` (nv, 3) (m) as a .vtu file, with optional
     ``point_data`` {name: (nv,) or (nv, k) array}."""
     tri = np.asarray(triangles, np.int64)
-    _write_atomic(path, _unstructured(vertices, tri.ravel(), 3 * np.arange(1, len(tri) + 1),
+    write_text_atomic(path, _unstructured(vertices, tri.ravel(), 3 * np.arange(1, len(tri) + 1),
                                       np.full(len(tri), 5, np.uint8), dict(point_data or {}), {}))
 
 
-class ParticleWriter:
+class PvdSeries:
+    """A ParaView series ``<directory>/<prefix>.pvd`` of ``<prefix>_<k>.vtu`` files.
+
+    ``times`` (optional): continue an earlier run's series, keeping its first len(times)
+    entries and removing its later files (and temporaries); else start an empty one.
+    """
+
+    def __init__(self, directory, prefix: str, *, times=None):
+        self.dir = pathlib.Path(directory)
+        self.dir.mkdir(parents=True, exist_ok=True)
+        self.prefix = prefix
+        self.pvd = self.dir / f"{prefix}.pvd"
+        self.entries = []
+        if times is None:
+            self.write_pvd()
+        else:
+            self.restore(times)
+
+    def next_path(self) -> pathlib.Path:
+        """The path of the next file of the series."""
+        return self.dir / f"{self.prefix}_{len(self.entries):06d}.vtu"
+
+    def add(self, t: float, path) -> None:
+        """Enter the written file ``path`` at time ``t`` (s) and rewrite the .pvd."""
+        self.entries.append((float(t), pathlib.Path(path).name))
+        self.write_pvd()
+
+    def times(self):
+        """The times (s) of the entries so far."""
+        return np.array([t for t, _ in self.entries], np.float64)
+
+    def restore(self, times) -> None:
+        """Keep the first len(times) entries of an earlier series; remove later files."""
+        times = [float(t) for t in times]
+        self.entries = [(t, f"{self.prefix}_{i:06d}.vtu") for i, t in enumerate(times)]
+        pattern = re.compile(rf"^{re.escape(self.prefix)}_(\d{{6}})\.vtu")
+        for p in self.dir.iterdir():
+            m = pattern.match(p.name)
+            if (m is not None and int(m.group(1)) >= len(times)) or re.search(r"\.tmp\d+$",
+                                                                               p.name):
+                p.unlink(missing_ok=True)
+        self.write_pvd()
+
+    def write_pvd(self) -> None:
+        """Rewrite ``<prefix>.pvd`` from the entries (atomically)."""
+        rows = "".join(f'<DataSet timestep="{t:.12g}" part="0" file="{f}"/>\n'
+                       for t, f in self.entries)
+        write_text_atomic(self.pvd, '<?xml version="1.0"?>\n<VTKFile type="Collection" '
+                          f'version="0.1">\n<Collection>\n{rows}</Collection>\n</VTKFile>\n')
+
+
+class ParticleWriter(PvdSeries):
     """Series of particle snapshots ``<out_dir>/<prefix>_<k>.vtu`` and ``<prefix>.pvd``.
 
     Parameters
@@ -98,30 +153,20 @@ class ParticleWriter:
     out_dir : str or path
         Directory (created).
     prefix : str, default "particles"
+    times : sequence of float, optional
+        Continue an earlier series (see :class:`PvdSeries`).
     """
 
-    def __init__(self, out_dir, prefix="particles"):
-        self.dir = pathlib.Path(out_dir)
-        self.dir.mkdir(parents=True, exist_ok=True)
-        self.prefix = prefix
-        self.entries = []
-        self.pvd = self.dir / f"{prefix}.pvd"
-        self._write_pvd()
+    def __init__(self, out_dir, prefix="particles", *, times=None):
+        super().__init__(out_dir, prefix, times=times)
 
     def write(self, sim):
         """Write a snapshot at ``sim.time`` and update the .pvd; returns the .vtu path."""
-        name = f"{self.prefix}_{len(self.entries):06d}.vtu"
-        write_particles_vtu(self.dir / name, sim)
-        self.entries.append((sim.time, name))
-        self._write_pvd()
-        return self.dir / name
-
-    def _write_pvd(self):
-        rows = "".join(f'<DataSet timestep="{t:.12g}" part="0" file="{f}"/>\n'
-                       for t, f in self.entries)
-        _write_atomic(self.pvd, '<?xml version="1.0"?>\n<VTKFile type="Collection" '
-                      f'version="0.1">\n<Collection>\n{rows}</Collection>\n</VTKFile>\n')
+        path = self.next_path()
+        write_particles_vtu(path, sim)
+        self.add(sim.time, path)
+        return path
 
     def close(self):
         """Finish the series (the .pvd is already complete after every write)."""
-        self._write_pvd()
+        self.write_pvd()

@@ -34,7 +34,8 @@ import numpy as np
 from gsi.errors import GsiInputError
 
 
-def _vec3(value, key):
+def vec3(value, key):
+    """``value`` as a (3,) float array, or a one-line GsiInputError naming ``key``."""
     a = np.asarray(value, float).reshape(-1)
     if a.shape != (3,) or not np.isfinite(a).all():
         raise GsiInputError(f"{key} = {value}: must be 3 finite numbers")
@@ -49,6 +50,11 @@ class PlaneWall:
         self._sim = sim
         self._p = index
         self.material = material
+
+    @property
+    def index(self):
+        """The plane's index among the simulation's planes."""
+        return self._p
 
     @property
     def point(self):
@@ -66,7 +72,7 @@ class PlaneWall:
 
     def set_motion(self, velocity=(0.0, 0.0, 0.0)):
         """Translate the plane with ``velocity`` (m/s)."""
-        self._sim.plane_state.velocity[self._p] = _vec3(velocity, "plane.velocity")
+        self._sim.plane_state.velocity[self._p] = vec3(velocity, "plane.velocity")
 
     @property
     def temperature(self):
@@ -168,11 +174,43 @@ class MeshWall:
                    vertex_temperature=vertex_temperature)
 
     # ---- after the wall is added to a simulation, the data live in sim.mesh_state
-    def _attach(self, sim, index, v0, t0):
+    def attach(self, sim, index, v0, t0):
+        """Called by the simulation that adds the wall: the wall is its mesh wall
+        ``index``, its vertices and triangles start at rows ``v0`` and ``t0`` of the
+        simulation's mesh state."""
         self._sim = sim
         self._w = index
         self._v0, self._v1 = v0, v0 + len(self._x)
         self._t0, self._t1 = t0, t0 + len(self._t)
+
+    @property
+    def index(self):
+        """The wall's index among the simulation's mesh walls (None before it is added)."""
+        return self._w
+
+    @property
+    def first_triangle(self):
+        """Row of the wall's first triangle in the simulation's mesh state."""
+        return self._t0
+
+    @property
+    def n_triangles(self):
+        return len(self._t)
+
+    @property
+    def initial_temperature(self):
+        """The vertex temperatures given at construction (None: adiabatic)."""
+        return self._T0
+
+    @property
+    def parent_nodes(self):
+        """(nt, 6) int32 P2 parent nodes of each triangle (-1: linear weights)."""
+        return self._p6
+
+    @property
+    def parent_coords(self):
+        """(nt, 3, 3) barycentric coordinates of each triangle's vertices in its parent."""
+        return self._lam
 
     def _vs(self):
         return slice(self._v0, self._v1)
@@ -210,16 +248,16 @@ class MeshWall:
                 raise GsiInputError(f"wall.set_vertices v shape {v.shape}: must be ({self.n_vertices}, 3)")
             s.mesh_state.v[self._vs()] = v
         s.mesh_state.wall_rigid[self._w] = 0
-        s._wall_moved()
+        s.wall_moved()
 
     def set_motion(self, velocity=(0.0, 0.0, 0.0), omega=(0.0, 0.0, 0.0), centre=None):
         """Rigid motion: translation ``velocity`` (m/s), rotation ``omega`` (rad/s) about
         ``centre`` (m; default: the current centre, initially the origin)."""
         s = self._sim
-        s.mesh_state.wall_velocity[self._w] = _vec3(velocity, "wall.velocity")
-        s.mesh_state.wall_omega[self._w] = _vec3(omega, "wall.omega")
+        s.mesh_state.wall_velocity[self._w] = vec3(velocity, "wall.velocity")
+        s.mesh_state.wall_omega[self._w] = vec3(omega, "wall.omega")
         if centre is not None:
-            s.mesh_state.wall_centre[self._w] = _vec3(centre, "wall.centre")
+            s.mesh_state.wall_centre[self._w] = vec3(centre, "wall.centre")
         s.mesh_state.wall_rigid[self._w] = 1
         c = s.mesh_state.wall_centre[self._w]
         r = s.mesh_state.x[self._vs()] - c

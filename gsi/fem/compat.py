@@ -1,6 +1,6 @@
 """Every dolfinx call whose spelling differs between dolfinx versions, in one place.
 
-Written against dolfinx 0.5.2 (Debian 12). The rest of :mod:`gsi.fem` (and :mod:`meshes`)
+Written against dolfinx 0.5.2 (Debian 12). The rest of :mod:`gsi.fem` (and :mod:`gsi.meshes`)
 imports these helpers instead of dolfinx, so moving to a newer dolfinx (0.7: ``functionspace``,
 ``x.petsc_vec``, ``Expression(..., interpolation_points)`` property, 0.8+: ``mesh.geometry.dofmap``
 as an ndarray, ``io.gmshio`` -> ``io.gmsh``, ...) is a change in this file only.

@@ -91,7 +91,7 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError
 
 from . import compat
-from ._base import FactorOnceSolver
+from .solvers import FactorOnceSolver
 
 __all__ = ["ThermalContact", "ContactHeatSystem", "triangle_tetra_area", "TEMPERATURES"]
 

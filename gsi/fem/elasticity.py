@@ -1,6 +1,6 @@
 r"""Linear elasticity on tetrahedra: static ``K u = f`` and dynamic ``M a + C v + K u = f``.
 
-Equations (DESIGN.md "Structure (FE) physics"), small strain, isotropic:
+Equations (docs/design.md, "Structure (FE) physics"), small strain, isotropic:
 
 .. math::
     \varepsilon(u) = \tfrac12(\nabla u + \nabla u^T), \quad
@@ -46,9 +46,8 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError
 
 from . import compat
-from ._base import (LinearSolver, NodalLoads, VertexDofMap, choose_solver, make_solver,
-                    petsc_option_strings, ITERATIVE_RTOL, rigid_body_modes)
-from .materials import get_material
+from .problem import Problem
+from .solvers import rigid_body_modes
 
 SCHEMES = ("static", "newmark", "generalized_alpha")
 
@@ -83,12 +82,12 @@ def newmark_parameters(scheme: str, rho_inf: float = 1.0) -> dict:
     raise GsiInputError(f"structure.scheme = {scheme!r}: must be one of {list(SCHEMES)}")
 
 
-class Elasticity:
+class Elasticity(Problem):
     """Linear elastic structure, static or dynamic.
 
     Parameters
     ----------
-    structure : meshes.StructureMesh
+    structure : gsi.meshes.StructureMesh
         Mesh with facet tags (names in ``structure.tags``).
     material : StructuralMaterial or str or dict
         Material (library name, table, or object).
@@ -132,6 +131,8 @@ class Elasticity:
     temperature and nodal loads may change between steps.
     """
 
+    kind = "elasticity"
+
     def __init__(self, structure, material, *, degree: int = 1, scheme: str = "static",
                  dt: float | None = None, rho_inf: float = 1.0, rayleigh=(0.0, 0.0),
                  gravity=(0.0, 0.0, 0.0), T_ref: float = 0.0, factorization: str = "lu",
@@ -145,18 +146,10 @@ class Elasticity:
             raise GsiInputError(f"structure.dt = {dt!r}: must be > 0 (s) for scheme {scheme!r}")
         if len(rayleigh) != 2 or min(rayleigh) < 0:
             raise GsiInputError(f"structure.rayleigh = {rayleigh!r}: must be two numbers >= 0 (a0 1/s, a1 s)")
-        self.structure = structure
-        self.mesh = mesh = structure.mesh
-        self.comm = mesh.comm
-        self.material = get_material(material)
+        self._init_problem(structure, material, factorization=factorization, solver=solver,
+                           petsc_options=petsc_options, options_key=options_key, rtol=rtol)
+        mesh = self.mesh
         self.degree, self.scheme, self.dt = degree, scheme, dt
-        self.factorization = factorization
-        choose_solver(solver, 0, "elasticity")          # checks the name
-        petsc_option_strings(petsc_options, options_key)
-        self.solver, self.petsc_options, self.options_key = solver, petsc_options, options_key
-        if rtol is not None and not 0.0 < rtol < 1.0:
-            raise GsiInputError(f"structure.rtol = {rtol!r}: must be in (0, 1)")
-        self.rtol = ITERATIVE_RTOL if rtol is None else float(rtol)
         self.params = newmark_parameters(scheme, rho_inf) if scheme != "static" else {}
         self.rayleigh = (float(rayleigh[0]), float(rayleigh[1]))
 
@@ -171,14 +164,10 @@ class Elasticity:
         self.g = compat.constant(mesh, np.asarray(gravity, dtype=float))
         self.tractions = {name: compat.constant(mesh, np.zeros(3))
                           for name in structure.tags if name != "volume"}
-        self.vmap = VertexDofMap(self.V)
-        self.nodal = NodalLoads(self.vmap)
+        self._init_loads()
         self._bc_specs: list[tuple[str, tuple, np.ndarray]] = []
         self.bcs = []
         self._bc_dofs_by_tag: dict[str, np.ndarray] = {}
-        self.t = 0.0
-        self.n_steps = 0
-        self._solver: LinearSolver | None = None
 
     # ------------------------------------------------------------------ set-up API
     def clamp(self, tag: str, *, components=None, value=None) -> None:
@@ -259,35 +248,14 @@ class Elasticity:
         """True if some support prescribes a nonzero displacement (local, no MPI call)."""
         return any(np.any(v) for _, _, v in self._bc_specs)
 
-    @property
-    def n_factorizations(self) -> int:
-        """Number of factorizations of the effective matrix (direct) or builds of its
-        multigrid preconditioner (iterative) so far (1 after set-up)."""
-        return 0 if self._solver is None else self._solver.n_factorizations
-
-    @property
-    def n_dofs(self) -> int:
-        imap, bs = compat.dof_index_map(self.V)
-        return imap.size_global * bs
-
-    @property
-    def solver_kind(self) -> str:
-        """The linear solver used: "direct" or "iterative" ("auto" resolved by size)."""
-        return choose_solver(self.solver, self.n_dofs, "elasticity")
-
-    @property
-    def iterations(self) -> list[int]:
-        """Krylov iterations of every solve so far (1 each for the direct solver)."""
-        return [] if self._solver is None else list(self._solver.iterations)
-
     # ------------------------------------------------------------------ assembly
     def _check_not_set_up(self, what: str) -> None:
-        if self._solver is not None:
+        if self.is_set_up:
             raise GsiInputError(f"structure.{what}: supports must be set before the first solve "
                                 "(the matrix is factorized once)")
 
     def _setup(self) -> None:
-        if self._solver is not None:
+        if self.is_set_up:
             return
         m = self.material
         mu = compat.constant(self.mesh, m.mu)
@@ -331,12 +299,7 @@ class Elasticity:
         with self._lift.localForm() as loc:
             loc.set(0.0)
         compat.apply_lifting_and_accumulate(self._lift, self._a_eff, self.bcs)
-        self._solver = make_solver(A, self.comm, kind=self.solver_kind, problem="elasticity",
-                                   factorization=self.factorization,
-                                   petsc_options=self.petsc_options, options_key=self.options_key,
-                                   rtol=self.rtol,
-                                   near_nullspace=lambda: rigid_body_modes(self.V, A))
-        self._solver.factorize()
+        self._make_solver(A, near_nullspace=lambda: rigid_body_modes(self.V, A))
         self._sigma_expr = None
 
     def _assemble_load(self, out: PETSc.Vec) -> None:
@@ -419,34 +382,25 @@ class Elasticity:
         self.v.x.array[:] = v_old + dt * ((1.0 - gamma) * a_old + gamma * a_new)
         self.a.x.array[:] = a_new
         self._F.copy(self._F_old)
-        self.t += dt
-        self.n_steps += 1
+        self.advance_time(dt)
         return self.u
 
     # ------------------------------------------------------------------ state
-    def state(self) -> dict:
-        """Plain arrays of this rank's time-integration state (for checkpoints):
-        owned dof values of u, v, a and of the previous load vector, t, n_steps.
-        A restart must use the same mesh and number of ranks."""
-        n = compat.dof_index_map(self.V)[0].size_local * 3
-        st = dict(u=self.u.x.array[:n].copy(), v=self.v.x.array[:n].copy(),
-                  a=self.a.x.array[:n].copy(), t=np.float64(self.t),
-                  n_steps=np.int64(self.n_steps), n_ranks=np.int64(self.comm.size))
-        if self._solver is not None:
-            st["F_old"] = self._F_old.array.copy()
-        return st
+    def _state_fields(self) -> dict:
+        return {"u": self.u, "v": self.v, "a": self.a}
 
-    def set_state(self, st: dict) -> None:
-        """Restore :meth:`state` (collective)."""
-        if int(st["n_ranks"]) != self.comm.size:
-            raise GsiInputError(f"restart n_ranks = {int(st['n_ranks'])}: must equal the "
-                                f"current number of MPI ranks ({self.comm.size})")
-        n = compat.dof_index_map(self.V)[0].size_local * 3
-        for name in ("u", "v", "a"):
-            f = getattr(self, name)
-            f.x.array[:n] = st[name]
-            compat.scatter_forward(f)
-        self.t, self.n_steps = float(st["t"]), int(st["n_steps"])
+    def _extra_state(self) -> dict:
+        """The temperature of the thermal strain (``T``, owned) and the previous load
+        vector (``F_old``, once set up)."""
+        d = {"T": self.T.x.array[:compat.dof_index_map(self.Q)[0].size_local].copy()}
+        if self.is_set_up:
+            d["F_old"] = self._F_old.array.copy()
+        return d
+
+    def _set_extra_state(self, st: dict) -> None:
+        if "T" in st:
+            self.T.x.array[:len(st["T"])] = st["T"]
+            compat.scatter_forward(self.T)
         if "F_old" in st:
             self._setup()
             self._F_old.array[:] = st["F_old"]

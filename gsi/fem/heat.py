@@ -59,7 +59,6 @@ relates it to the cell sizes in 3D. Above the bound :class:`Heat` refuses to ste
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import scipy.constants
@@ -70,17 +69,16 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError
 
 from . import compat
-from ._base import (LinearSolver, NodalLoads, VertexDofMap, choose_solver, make_solver,
-                    petsc_option_strings, ITERATIVE_RTOL)
-from .materials import get_material
+from .heat_bounds import eigenvalue_bound, facet_factor
+from .problem import Problem
 
 
-class Heat:
+class Heat(Problem):
     """Transient heat conduction.
 
     Parameters
     ----------
-    structure : meshes.StructureMesh
+    structure : gsi.meshes.StructureMesh
     material : StructuralMaterial or str or dict
         Uses rho (kg/m^3), c (J/(kg K)) and k (W/(m K)).
     dt : float
@@ -114,6 +112,8 @@ class Heat:
     Under MPI every method is collective except ``set_*``/``add_nodal_heat``.
     """
 
+    kind = "heat"
+
     def __init__(self, structure, material, *, dt: float, theta: float = 1.0,
                  T_initial: float = 0.0, degree: int = 1, factorization: str = "lu",
                  solver: str = "auto", petsc_options: dict | None = None,
@@ -129,18 +129,10 @@ class Heat:
             raise GsiInputError(f"{theta_key} = {theta!r}: below 0.5 (explicit) needs degree 1 "
                                 f"(its stability bound is for P1); use degree = 1 or theta >= 0.5")
         self.theta_key = theta_key
-        self.structure = structure
-        self.mesh = mesh = structure.mesh
-        self.comm = mesh.comm
-        self.material = get_material(material)
+        self._init_problem(structure, material, factorization=factorization, solver=solver,
+                           petsc_options=petsc_options, options_key=options_key, rtol=rtol)
+        mesh = self.mesh
         self.dt, self.theta, self.degree = float(dt), float(theta), degree
-        self.factorization = factorization
-        choose_solver(solver, 0, "heat")          # checks the name
-        petsc_option_strings(petsc_options, options_key)
-        self.solver, self.petsc_options, self.options_key = solver, petsc_options, options_key
-        if rtol is not None and not 0.0 < rtol < 1.0:
-            raise GsiInputError(f"structure.rtol = {rtol!r}: must be in (0, 1)")
-        self.rtol = ITERATIVE_RTOL if rtol is None else float(rtol)
         self.V = compat.scalar_space(mesh, degree)
         self.T = compat.function(self.V, "temperature")
         self.T.x.array[:] = float(T_initial)
@@ -151,13 +143,9 @@ class Heat:
         self.q = {n: compat.constant(mesh, 0.0) for n in names}
         self.radiation = {}          # tag -> (emissivity, T_ambient Constant)
         self.source = compat.constant(mesh, 0.0)
-        self.vmap = VertexDofMap(self.V)
-        self.nodal = NodalLoads(self.vmap)
+        self._init_loads()
         self.bcs = []
         self._bc_dofs_by_tag: dict[str, np.ndarray] = {}
-        self.t = 0.0
-        self.n_steps = 0
-        self._solver: LinearSolver | None = None
         #: the :class:`gsi.fem.contact_heat.ContactHeatSystem` that steps this body (None:
         #: it steps alone)
         self.contact_system = None
@@ -167,7 +155,7 @@ class Heat:
 
     # ------------------------------------------------------------------ set-up API
     def _check_not_set_up(self, what):
-        if self._solver is not None:
+        if self.is_set_up:
             raise GsiInputError(f"structure.heat.{what}: must be set before the first step "
                                 "(the matrix is factorized once)")
 
@@ -188,7 +176,7 @@ class Heat:
         self.structure.facet_tag(tag)
         if not (np.isfinite(h) and h >= 0):
             raise GsiInputError(f"structure.heat.convection.{tag}.h = {h!r}: must be >= 0 (W/(m^2 K))")
-        if self._solver is not None and h != self.h[tag]:
+        if self.is_set_up and h != self.h[tag]:
             self._check_not_set_up(f"convection.{tag}.h")
         self.h[tag] = float(h)
         self.T_amb[tag].value = float(T_ambient)
@@ -210,7 +198,7 @@ class Heat:
             raise GsiInputError(f"structure.heat.radiation.{tag}.T_ambient = {T_ambient!r}: "
                                 "must be >= 0 (K)")
         if tag in self.radiation:
-            if self._solver is not None and emissivity != self.radiation[tag][0]:
+            if self.is_set_up and emissivity != self.radiation[tag][0]:
                 self._check_not_set_up(f"radiation.{tag}.emissivity")
             self.radiation[tag][1].value = float(T_ambient)
             return
@@ -252,27 +240,9 @@ class Heat:
         m = self.material
         return self.stored_heat() / (m.rho * m.c * self.volume())
 
-    @property
-    def n_factorizations(self) -> int:
-        return 0 if self._solver is None else self._solver.n_factorizations
-
-    @property
-    def n_dofs(self) -> int:
-        return compat.dof_index_map(self.V)[0].size_global
-
-    @property
-    def solver_kind(self) -> str:
-        """The linear solver used: "direct" or "iterative" ("auto" resolved by size)."""
-        return choose_solver(self.solver, self.n_dofs, "heat")
-
-    @property
-    def iterations(self) -> list[int]:
-        """Krylov iterations of every solve so far (1 each for the direct solver)."""
-        return [] if self._solver is None else list(self._solver.iterations)
-
     # ------------------------------------------------------------------ assembly
     def _setup(self):
-        if self._solver is not None:
+        if self.is_set_up:
             return
         m = self.material
         rho_c = compat.constant(self.mesh, m.rho * m.c)
@@ -310,11 +280,7 @@ class Heat:
         with self._lift.localForm() as loc:
             loc.set(0.0)
         compat.apply_lifting_and_accumulate(self._lift, self._a, self.bcs)
-        self._solver = make_solver(self._A, self.comm, kind=self.solver_kind, problem="heat",
-                                   factorization=self.factorization,
-                                   petsc_options=self.petsc_options, options_key=self.options_key,
-                                   rtol=self.rtol)
-        self._solver.factorize()
+        self._make_solver(self._A)
 
     def _radiation_flux(self, tag):
         """eps sigma (T_amb^4 - T_n^4): the radiative flux into the body over the step
@@ -334,36 +300,13 @@ class Heat:
                 self._radiation_flux(tag) * self._ds(self.structure.tags[tag]))
         return compat.assemble_scalar(self._rad_forms[tag], self.comm)
 
-    def _facet_factor(self, name) -> float:
-        """max over the cells at the facets of ``name`` of (d+1)(d+2) A/(d rho c V) (1/(s W/(m^2 K)))."""
-        m = self.material
-        x = compat.geometry_x(self.mesh)
-        cells = compat.geometry_dofmap(self.mesh)
-        d = self.mesh.topology.dim
-        facets = compat.meshtag_find(self.structure.facet_tags, self.structure.tags[name])
-        if len(facets) == 0:
-            return 0.0
-        X = x[cells[:, :d + 1]]
-        J = np.transpose(X[:, 1:, :] - X[:, :1, :], (0, 2, 1))
-        V = np.sqrt(np.abs(np.linalg.det(np.einsum("nai,naj->nij", J, J)))) / math.factorial(d)
-        fn = compat.entities_to_geometry(self.mesh, d - 1, facets)
-        E = x[fn][:, 1:, :] - x[fn][:, :1, :]
-        A = np.sqrt(np.abs(np.linalg.det(np.einsum("nia,nja->nij", E, E)))) / math.factorial(d - 1)
-        area = {tuple(sorted(f)): a for f, a in zip(fn.tolist(), A)}
-        out = 0.0
-        for c, nodes in enumerate(cells[:, :d + 1].tolist()):
-            for skip in range(d + 1):
-                key = tuple(sorted(nodes[:skip] + nodes[skip + 1:]))
-                if key in area:
-                    out = max(out, (d + 1) * (d + 2) * area[key] / (d * m.rho * m.c * V[c]))
-        return out
-
     def check_radiation_step(self) -> None:
         """Refuse a step with dt lambda_rad > 1 (module docstring; collective)."""
         if not self.radiation:
             return
         if not hasattr(self, "_rad_factor"):
-            self._rad_factor = {n: self.comm.allreduce(self._facet_factor(n), op=MPI.MAX)
+            self._rad_factor = {n: self.comm.allreduce(facet_factor(
+                self.mesh, self.structure, n, self.material), op=MPI.MAX)
                                 for n in self.radiation}
         T_max = max(self.min_max()[1], max(T.value for _, T in self.radiation.values()))
         for n, (eps, _) in self.radiation.items():
@@ -386,39 +329,10 @@ class Heat:
     def eigenvalue_bound(self) -> float:
         """Upper bound (1/s) of the largest eigenvalue of C^-1 K (module docstring; P1
         simplices; collective)."""
-        m = self.material
-        x = compat.geometry_x(self.mesh)
-        cells = compat.geometry_dofmap(self.mesh)
-        d = self.mesh.topology.dim
-        if cells.shape[1] != d + 1:
+        if compat.geometry_dofmap(self.mesh).shape[1] != self.mesh.topology.dim + 1:
             raise GsiInputError(f"{self.theta_key} = {self.theta!r}: the explicit stability "
                                 "bound needs straight P1 simplices (this mesh has curved cells)")
-        X = x[cells]                                             # (n, d+1, 3)
-        J = np.transpose(X[:, 1:, :] - X[:, :1, :], (0, 2, 1))   # columns: edges from node 0
-        JtJ = np.einsum("nai,naj->nij", J, J)
-        V = np.sqrt(np.abs(np.linalg.det(JtJ))) / math.factorial(d)
-        Jinv = np.linalg.solve(JtJ, np.transpose(J, (0, 2, 1)))  # rows: gradients of nodes 1..d
-        G = np.concatenate([-Jinv.sum(1, keepdims=True), Jinv], axis=1)  # (n, d+1, 3)
-        GtG = np.einsum("nia,nib->nab", G, G)
-        lam = (d + 1) * (d + 2) * (m.k / (m.rho * m.c)) * np.linalg.eigvalsh(GtG)[:, -1]
-        for name, h in self.h.items():
-            if h <= 0.0:
-                continue
-            facets = compat.meshtag_find(self.structure.facet_tags, self.structure.tags[name])
-            if len(facets) == 0:
-                continue
-            fn = compat.entities_to_geometry(self.mesh, d - 1, facets)
-            F = x[fn]
-            E = F[:, 1:, :] - F[:, :1, :]
-            gram = np.einsum("nia,nja->nij", E, E)              # facet measure from its Gram
-            A = np.sqrt(np.abs(np.linalg.det(gram))) / math.factorial(d - 1)
-            area = {tuple(sorted(f)): a for f, a in zip(fn.tolist(), A)}
-            for c, nodes in enumerate(cells.tolist()):
-                for skip in range(d + 1):
-                    key = tuple(sorted(nodes[:skip] + nodes[skip + 1:]))
-                    if key in area:
-                        lam[c] += (d + 1) * (d + 2) * h * area[key] / (d * m.rho * m.c * V[c])
-        local = float(lam.max()) if len(lam) else 0.0
+        local = eigenvalue_bound(self.mesh, self.structure, self.material, self.h)
         return self.comm.allreduce(local, op=MPI.MAX)
 
     def check_stability(self) -> None:
@@ -475,8 +389,7 @@ class Heat:
         if T_new is not None:
             self.T.x.array[:len(T_new)] = T_new
         compat.scatter_forward(self.T)
-        self.t += self.dt
-        self.n_steps += 1
+        self.advance_time(self.dt)
 
     def system_matrix(self) -> PETSc.Mat:
         """The step matrix C/dt + theta K with the Dirichlet rows and columns replaced by
@@ -503,21 +416,8 @@ class Heat:
         return m.rho * m.c * self.volume()
 
     # ------------------------------------------------------------------ state
-    def state(self) -> dict:
-        """Plain arrays of this rank's state (owned T values, t, n_steps) for checkpoints."""
-        n = compat.dof_index_map(self.V)[0].size_local
-        return dict(T=self.T.x.array[:n].copy(), t=np.float64(self.t),
-                    n_steps=np.int64(self.n_steps), n_ranks=np.int64(self.comm.size))
-
-    def set_state(self, st: dict) -> None:
-        """Restore :meth:`state` (collective; same mesh and number of ranks)."""
-        if int(st["n_ranks"]) != self.comm.size:
-            raise GsiInputError(f"restart n_ranks = {int(st['n_ranks'])}: must equal the "
-                                f"current number of MPI ranks ({self.comm.size})")
-        n = compat.dof_index_map(self.V)[0].size_local
-        self.T.x.array[:n] = st["T"]
-        compat.scatter_forward(self.T)
-        self.t, self.n_steps = float(st["t"]), int(st["n_steps"])
+    def _state_fields(self) -> dict:
+        return {"T": self.T, "T_old": self.T_old}
 
     # ------------------------------------------------------------------ results
     def dirichlet_heat_flow(self, tag: str | None = None) -> float:

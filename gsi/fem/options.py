@@ -1,6 +1,6 @@
 """Choices of the FE linear solvers that need neither dolfinx nor PETSc (``gsi check``).
 
-See :mod:`gsi.fem._base` for the solvers themselves.
+See :mod:`gsi.fem.solvers` for the solvers themselves.
 """
 from __future__ import annotations
 

@@ -120,7 +120,9 @@ class ContactSurface:
         return int(self.triangles.shape[0])
 
     # ------------------------------------------------------------------ gather
-    def _gather(self, name: str, f) -> np.ndarray:
+    def gather(self, name: str, f) -> np.ndarray:
+        """The values of ``f`` (a Function of the ``name`` problem, "elasticity" or
+        "heat") at the surface vertices, (nv, bs) or (nv,), on every rank (collective)."""
         rows, dofs, bs = self._own[name]
         out = np.zeros((self.n_vertices, bs))
         vals = f.x.array
@@ -129,17 +131,21 @@ class ContactSurface:
         self.comm.Allreduce(MPI.IN_PLACE, out, op=MPI.SUM)  # each vertex owned once: exact
         return out if bs > 1 else out[:, 0]
 
+    def n_owned(self, name: str) -> int:
+        """Surface vertices whose ``name`` dofs this rank owns."""
+        return int(self._own[name][0].size)
+
     def displacement(self) -> np.ndarray:
         """Current displacement at the surface vertices (nv, 3) (m), on every rank."""
-        return self._gather("elasticity", self.elasticity.u)
+        return self.gather("elasticity", self.elasticity.u)
 
     def velocity(self) -> np.ndarray:
         """Current velocity at the surface vertices (nv, 3) (m/s), on every rank."""
-        return self._gather("elasticity", self.elasticity.v)
+        return self.gather("elasticity", self.elasticity.v)
 
     def temperature(self) -> np.ndarray:
         """Current temperature at the surface vertices (nv,) (K or degC), on every rank."""
-        return self._gather("heat", self.heat.T)
+        return self.gather("heat", self.heat.T)
 
     def positions(self) -> np.ndarray:
         """Deformed vertex coordinates x0 + u (nv, 3) (m)."""

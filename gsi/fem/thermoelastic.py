@@ -20,7 +20,7 @@ class ThermoElastic:
 
     Parameters
     ----------
-    structure : meshes.StructureMesh
+    structure : gsi.meshes.StructureMesh
     material : StructuralMaterial or str or dict
     dt : float
         Time step of both problems (s).

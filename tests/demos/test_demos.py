@@ -10,7 +10,7 @@ import pytest
 
 from gsi.case import case_to_table, load_case
 from gsi.case.case import validated
-from gsi.runner import demo_main, run_case
+from gsi.run import demo_main, run_case
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 DEMOS = ROOT / "demos"

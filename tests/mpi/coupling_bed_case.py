@@ -1,4 +1,4 @@
-"""The bed-on-membrane coupled case (gsi/coupling/validation.py), run under ``mpirun -n N``
+"""The bed-on-membrane coupled case (gsi/studies/bed_on_membrane.py), run under ``mpirun -n N``
 by tests/mpi/test_coupling_mpi.py; writes its key numbers and records as JSON to argv[1]."""
 import json
 import pathlib
@@ -6,7 +6,7 @@ import sys
 
 from mpi4py import MPI
 
-from gsi.coupling.validation import bed_on_membrane
+from gsi.studies.bed_on_membrane import bed_on_membrane
 
 if __name__ == "__main__":
     res = bed_on_membrane(h=0.05, duration=0.3)

@@ -9,7 +9,7 @@ import numpy as np
 from mpi4py import MPI
 
 from gsi.case import load_case
-from gsi.runner import run_case
+from gsi.run import run_case
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 

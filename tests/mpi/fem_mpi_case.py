@@ -10,7 +10,7 @@ import sys
 import numpy as np
 from mpi4py import MPI
 
-import meshes
+from gsi import meshes
 from gsi.fem import compat
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.heat import Heat
@@ -32,8 +32,8 @@ def main(out_path):
     # loads as assembled at the surface vertices (scatter, then gather back)
     Fvec = compat.function(p.V)
     Fvec.x.array[: p.load_vector().array.size] = p.nodal.values
-    back = s._gather("elasticity", Fvec)
-    owned = comm.allgather(int(s._own["elasticity"][0].size))
+    back = s.gather("elasticity", Fvec)
+    owned = comm.allgather(s.n_owned("elasticity"))
     res = dict(owned_surface_vertices=owned, static_norm=p.displacement_norm(), load_sum=list(p.load_sum()),
                surface_u=s.displacement().tolist(), loads_back=back.tolist(),
                loads_in=loads.tolist(), global_ids=s.global_ids.tolist())

@@ -13,7 +13,7 @@ import sys
 import numpy as np
 from mpi4py import MPI
 
-import meshes
+from gsi import meshes
 from gsi.fem import compat
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.heat import Heat

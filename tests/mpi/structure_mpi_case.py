@@ -13,7 +13,7 @@ import sys
 import numpy as np
 from mpi4py import MPI
 
-import meshes
+from gsi import meshes
 from gsi.case.structure import Structure
 from gsi.config.schema import load
 from gsi.dem import Material, Simulation

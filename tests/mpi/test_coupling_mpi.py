@@ -3,7 +3,7 @@
 Runs tests/mpi/coupling_bed_case.py and coupling_demo_case.py under ``mpirun -n 1`` and
 ``mpirun -n 2``:
 
-* the bed-on-membrane case (DESIGN.md case 8): every coupling record (loads, wall force,
+* the bed-on-membrane case (docs/design.md, "Validation cases", case 8): every coupling record (loads, wall force,
   deflection, work) and the support reactions agree to 1e-9 relative (measured 4e-12:
   the direct solver's round-off differs with the partition, nothing else does);
 * the quick hopper_membrane demo: the coupling records agree to 1e-9 of their range from

@@ -1,4 +1,4 @@
-"""DESIGN.md case 10: the same structural analysis on 1 and 2 MPI ranks.
+"""docs/design.md, "Validation cases", case 10: the same structural analysis on 1 and 2 MPI ranks.
 
 Runs tests/mpi/fem_mpi_case.py under ``mpirun -n 1`` and ``mpirun -n 2`` and compares:
 displacement norms (static, dynamic) and temperature norm to 1e-8 relative (the direct

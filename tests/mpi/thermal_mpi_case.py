@@ -12,7 +12,7 @@ import sys
 import numpy as np
 from mpi4py import MPI
 
-import meshes
+from gsi import meshes
 from gsi.coupling.staggered import StaggeredCoupling
 from gsi.coupling.thermal import ThermalCoupling
 from gsi.dem import Material, Simulation

@@ -4,7 +4,7 @@
 [--dump-restored PATH]
 [--parallel-min-n N] [--fail-fe-on-rank R --fail-fe-at-step K]``
 
-``--dump PATH`` writes every rank's final :meth:`gsi.runner.Runner.state` to
+``--dump PATH`` writes every rank's final :meth:`gsi.run.Runner.state` to
 ``PATH.rank<r>.npz`` (``--dump-restored``: the state right after ``--resume`` restored
 it, then stop); ``--parallel-min-n 0`` makes the DEM use all numba threads even for
 a few particles (the threaded slab code path); ``--fail-fe-*`` raises an error in the FE
@@ -48,23 +48,21 @@ def main():
             return step(self)
         Elasticity.step = failing
     from gsi import cli
-    from gsi.runner import Runner
+    from gsi.run import Runner
 
     runner = {}
     original = Runner.run
-    if a.dump_restored:
-        open_outputs = Runner._open_outputs
 
-        def dump_and_stop(self, restored=None):
-            open_outputs(self, restored)
-            import numpy as np
-            np.savez(f"{a.dump_restored}.rank{MPI.COMM_WORLD.rank}.npz",
-                     **self.state(int(restored["runner.k"]), int(restored["runner.n_out"])))
-            raise SystemExit(0)
-        Runner._open_outputs = dump_and_stop
+    def dump_and_stop(self, restored):
+        import numpy as np
+        np.savez(f"{a.dump_restored}.rank{MPI.COMM_WORLD.rank}.npz",
+                 **self.state(int(restored["runner.k"]), int(restored["runner.n_out"])))
+        raise SystemExit(0)
 
     def run(self):
         runner["r"] = self
+        if a.dump_restored:
+            self.on_resume.append(dump_and_stop)
         return original(self)
     Runner.run = run
     argv = ["run", a.case, "--out", a.out, "--no-pictures"]

@@ -6,7 +6,7 @@ import numpy as np
 
 from gsi import checkpoint as ck
 from gsi.case import load_case
-from gsi.runner import Runner
+from gsi.run import Runner
 
 CASE = pathlib.Path(__file__).resolve().parent / "data" / "coupled_small.toml"
 

@@ -99,7 +99,7 @@ def test_a_second_run_is_refused_and_overwrite_leaves_no_stale_files(tiny, tmp_p
 
 def test_overwrite_removes_only_gsi_outputs(tmp_path):
     from mpi4py import MPI
-    from gsi.runner import _output_dir
+    from gsi.run.outdir import output_dir
     from gsi.errors import GsiInputError
     out = tmp_path / "o"
     for d in ("particles", "walls", "monitors", "pictures"):
@@ -111,14 +111,14 @@ def test_overwrite_removes_only_gsi_outputs(tmp_path):
     (out / "data").mkdir()
     (out / "data" / "heap.csv").write_text("")
     with pytest.raises(GsiInputError, match="--overwrite"):
-        _output_dir(out, MPI.COMM_WORLD)
-    _output_dir(out, MPI.COMM_WORLD, overwrite=True)
+        output_dir(out, MPI.COMM_WORLD)
+    output_dir(out, MPI.COMM_WORLD, overwrite=True)
     assert sorted(p.name for p in out.iterdir()) == ["case.toml", "data", "data.txt",
                                                      "heap.csv"]
     assert (out / "data" / "heap.csv").exists()
-    _output_dir(out, MPI.COMM_WORLD)                # nothing of a run left: accepted
+    output_dir(out, MPI.COMM_WORLD)                # nothing of a run left: accepted
     (out / "pour.png").write_text("")               # a user's picture alone: not a run
-    _output_dir(out, MPI.COMM_WORLD)
+    output_dir(out, MPI.COMM_WORLD)
     assert (out / "pour.png").exists()
 
 
@@ -138,7 +138,7 @@ def test_injected_write_failure_stops_in_one_line_without_temporary_files(tiny, 
                                                                           monkeypatch, capsys):
     """The same without a mount: the third particle file fails half-written (ENOSPC)."""
     import gsi.dem.output as output
-    real = output._write_atomic
+    real = output.write_text_atomic
     calls = {"n": 0}
 
     def failing(path, text):
@@ -150,7 +150,7 @@ def test_injected_write_failure_stops_in_one_line_without_temporary_files(tiny, 
                 raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), tmp)
         real(path, text)
 
-    monkeypatch.setattr(output, "_write_atomic", failing)
+    monkeypatch.setattr(output, "write_text_atomic", failing)
     out = tmp_path / "out"
     rc = main(["run", str(tiny), "--no-pictures", "--out", str(out)])
     line = _one_line(capsys.readouterr().err, "run stopped: cannot write")
@@ -172,7 +172,7 @@ def test_read_only_out_is_refused_by_the_command(tiny, tmpfs):
 
 def test_unwritable_out_is_refused(tiny, tmp_path, monkeypatch, capsys):
     """Root writes into a chmod 0555 directory, so the PermissionError a user sees is
-    injected here: the probe write of ``_output_dir`` fails."""
+    injected here: the probe write of ``output_dir`` fails."""
     real = pathlib.Path.write_text
 
     def denied(self, *a, **kw):
@@ -200,12 +200,12 @@ def test_bad_out_paths_are_refused_in_one_line(kind, tiny, tmp_path, capsys):
 def test_out_of_memory_at_set_up_stops_in_one_line(tiny, tmp_path, monkeypatch, capsys):
     """A MemoryError (injected: the checks refuse the counts that would raise it) becomes
     ``run stopped: out of memory; ...`` with exit status 3."""
-    import gsi.runner
+    import gsi.run.runner
 
     def no_memory(case, *, dt):
         raise MemoryError
 
-    monkeypatch.setattr(gsi.runner, "build_simulation", no_memory)
+    monkeypatch.setattr(gsi.run.runner, "build_simulation", no_memory)
     assert main(["run", str(tiny), "--out", str(tmp_path / "out")]) == 3
     line = _one_line(capsys.readouterr().err, "run stopped: out of memory")
     assert "particles[].count" in line

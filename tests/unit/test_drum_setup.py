@@ -1,11 +1,11 @@
-"""The drum's set-up before t0 (gsi.drum.prepare) spread over several runs: saved every
+"""The drum's set-up before t0 (gsi.studies.drum.prepare) spread over several runs: saved every
 ``chunk`` steps, resumed after an interruption, and bit-identical to one uninterrupted
 set-up; a state file of another set-up is refused with a one-line error, and one of
 fewer spin-up turns is extended."""
 import numpy as np
 import pytest
 
-from gsi.drum import drum_geometry, prepare
+from gsi.studies.drum import drum_geometry, prepare
 from gsi.errors import GsiInputError
 
 SETUP = dict(settle=0.05, spin_up=0.05)

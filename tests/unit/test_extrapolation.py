@@ -242,7 +242,7 @@ def test_twin_dem_moves_the_positions_at_t1_and_diverges():
     """compare_with_dem(twin=a) restarts the DEM at t1 with the positions moved by up to
     a: with a = 1 um in a small turning drum the two runs part (eq. 9 > 0 between them),
     but far less than the extrapolation does from the DEM over the same periods."""
-    from gsi.drum import drum_geometry, prepare
+    from gsi.studies.drum import drum_geometry, prepare
     from gsi.extrapolation import compare_with_dem
     g = drum_geometry(200)
     sim, hot, _ = prepare(g, spin_up=0.05)

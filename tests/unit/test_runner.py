@@ -10,7 +10,7 @@ from gsi.case import (Case, CaseInfo, Dem, Material, Monitor, Motion, Output, Pa
                       Region, Run, Size, Wall)
 from gsi.case.walls import MotionEvent
 from gsi.errors import GsiRunError
-from gsi.runner import Runner
+from gsi.run import Runner
 
 GLASS = Material(E=5.0e6, nu=0.3, rho=2500.0, e=0.5, mu=0.5, k=1.0, cp=840.0)
 

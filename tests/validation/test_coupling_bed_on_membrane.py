@@ -1,9 +1,9 @@
-"""DESIGN.md case 8: a bed of particles at rest on a clamped membrane (two-way coupled).
+"""docs/design.md, "Validation cases", case 8: a bed of particles at rest on a clamped membrane (two-way coupled).
 
 A layer of 36 softwood spheres (r = 10 mm, XDEM Table 3, with rolling resistance) settles
 on a clamped P2 rubber plate (radius 0.2 m, 10 mm thick; generalized-alpha,
 rho_inf = 0.8, half-critical damping of the lowest mode), coupled by
-:class:`gsi.coupling.staggered.StaggeredCoupling` (gsi/coupling/validation.py). References:
+:class:`gsi.coupling.staggered.StaggeredCoupling` (gsi/studies/bed_on_membrane.py). References:
 
 * at rest the supports carry the bed's weight (1 %; measured 0.002 %);
 * the coupled deflection equals a static FE solve under the same nodal loads (1 %;
@@ -18,7 +18,7 @@ rho_inf = 0.8, half-critical damping of the lowest mode), coupled by
 import numpy as np
 import pytest
 
-from gsi.coupling.validation import bed_on_membrane
+from gsi.studies.bed_on_membrane import bed_on_membrane
 
 
 @pytest.fixture(scope="module")

@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from gsi.case import load_case
-from gsi.runner import run_case
+from gsi.run import run_case
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 N, R, RHO = 400, 0.01, 400.0

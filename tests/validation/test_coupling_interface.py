@@ -14,7 +14,7 @@
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.coupling.interface import SurfaceInterface
 from gsi.fem.elasticity import Elasticity
 

@@ -12,7 +12,7 @@ import math
 
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.coupling.staggered import choose_n_sub, lowest_period
 from gsi.fem.elasticity import Elasticity
 

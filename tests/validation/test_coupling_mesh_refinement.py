@@ -1,12 +1,12 @@
-"""Mesh refinement of the coupled membrane: the bed-on-membrane case (DESIGN.md case 8,
-gsi/coupling/validation.py) on two P2 meshes, h = 25 mm and h = 18 mm (9.6k and 17.5k
+"""Mesh refinement of the coupled membrane: the bed-on-membrane case (docs/design.md, "Validation cases", case 8,
+gsi/studies/bed_on_membrane.py) on two P2 meshes, h = 25 mm and h = 18 mm (9.6k and 17.5k
 dofs). The total interface load (= the bed's weight at rest) changes by < 1 % and the
 maximum deflection by < 5 % (measured 0.02 % and 2.9 %; the sequence h = 50, 35, 25,
 18 mm gives 139.4, 153.8, 163.2, 167.9 um: changes 10.4, 6.1, 2.9 %, converging).
 """
 import pytest
 
-from gsi.coupling.validation import bed_on_membrane
+from gsi.studies.bed_on_membrane import bed_on_membrane
 
 
 def test_interface_load_and_deflection_converge_under_refinement():

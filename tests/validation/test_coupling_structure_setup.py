@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
-import meshes
+from gsi import meshes
 from gsi.case.structure import Structure
 from gsi.config.schema import load
 from gsi.coupling.staggered import choose_n_sub, lowest_period

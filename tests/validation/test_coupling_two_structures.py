@@ -1,4 +1,4 @@
-"""Two coupled structures on one DEM, with different sub-cycles (gsi.coupling.structure).
+"""Two coupled structures on one DEM, with different sub-cycles (gsi.coupling.coupled_structure).
 
 Two clamped rubber plates side by side, both from one user .geo script (a DefineConstant
 offset x0 places them), carry a few falling spheres each. Plate A is coupled every 5 DEM

@@ -1,4 +1,4 @@
-"""Conservation checks (DESIGN.md validation case 2 and the momentum check of issue 3).
+"""Conservation checks (docs/design.md, "Validation cases", case 2 and the momentum check of issue 3).
 
 - e = 1, mu = 0: the total energy of particles bouncing in a closed box of planes,
   kinetic + gravitational + elastic (Hertz potential 8/15 E* sqrt(R*) delta^(5/2) of

@@ -1,4 +1,4 @@
-"""Normal impact, sphere on wall and sphere on sphere (DESIGN.md validation case 1).
+"""Normal impact, sphere on wall and sphere on sphere (docs/design.md, "Validation cases", case 1).
 
 References
 ----------

@@ -1,4 +1,4 @@
-"""Sphere on an incline (DESIGN.md validation case 3), gravity tilted by theta.
+"""Sphere on an incline (docs/design.md, "Validation cases", case 3), gravity tilted by theta.
 
 References: a solid sphere rolls without slip with a = 5/7 g sin(theta) when
 tan(theta) <= 7/2 mu; otherwise it slides with a = g (sin(theta) - mu cos(theta)).

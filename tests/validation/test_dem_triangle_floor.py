@@ -1,7 +1,7 @@
 """A sphere on a triangulated floor feels the same force on a face, an edge or a vertex
-as on the analytic plane (DESIGN.md "Contact geometry": no double push), and the wall
+as on the analytic plane (docs/design.md, "Contact geometry": no double push), and the wall
 accumulators balance: vertex_impulse sums to -impulse_on_particles, vertex_heat to
--heat_to_particles (DESIGN.md "Coupling: Balance").
+-heat_to_particles (docs/design.md, "Balance" under "Coupling").
 """
 import math
 

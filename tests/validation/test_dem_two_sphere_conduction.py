@@ -1,4 +1,4 @@
-"""Two touching spheres at fixed overlap, 100 and 0 degC (DESIGN.md validation case 4).
+"""Two touching spheres at fixed overlap, 100 and 0 degC (docs/design.md, "Validation cases", case 4).
 
 Lumped two-body problem with equal m c_p and conductance H:
 d(T1 - T2)/dt = -2 H/(m c_p) (T1 - T2), so T1,2 = 50 +- 50 exp(-2 H t/(m c_p)).

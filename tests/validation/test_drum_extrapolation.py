@@ -1,5 +1,5 @@
 """Long-time heat extrapolation (Haydar, Martin & Bonnefoy 2023, "seed 003") in the
-rotating drum of gsi.drum, against gsi's own full DEM of the same drum.
+rotating drum of gsi.studies.drum, against gsi's own full DEM of the same drum.
 
 Default suite: demos/drum_extrapolation.toml in its quick form, run by ``gsi run``'s
 runner -- 640 particles in R = 0.06 m at the reference Froude number 0.048 (cascading), a
@@ -30,9 +30,9 @@ import pytest
 
 from gsi.case import load_case
 from gsi.dem.contact_log import ContactLog
-from gsi.drum import drum_geometry, prepare
+from gsi.studies.drum import drum_geometry, prepare
 from gsi.extrapolation import Replay, compare_with_dem, period_errors, voronoi_seeds
-from gsi.runner import run_case
+from gsi.run import run_case
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CASE = ROOT / "demos" / "drum_extrapolation.toml"

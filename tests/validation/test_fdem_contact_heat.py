@@ -24,7 +24,7 @@ import math
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.errors import GsiInputError
 from gsi.fem import compat
 from gsi.fem.contact_heat import ContactHeatSystem, ThermalContact, triangle_tetra_area

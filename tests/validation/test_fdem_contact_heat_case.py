@@ -17,7 +17,7 @@ import pytest
 
 from gsi.case import case_from_table, load_case
 from gsi.errors import GsiInputError
-from gsi.runner import Runner
+from gsi.run import Runner
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CASE = ROOT / "demos" / "plate_on_block.toml"

@@ -37,7 +37,7 @@ import math
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.dem import Material, Simulation
 from gsi.fem import compat
 from gsi.fem.contact_heat import ContactHeatSystem, ThermalContact

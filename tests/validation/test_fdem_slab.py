@@ -40,7 +40,7 @@ import pytest
 import scipy.linalg
 from mpi4py import MPI
 
-import meshes
+from gsi import meshes
 from gsi.case.structure import Structure
 from gsi.config.schema import load
 from gsi.errors import GsiInputError

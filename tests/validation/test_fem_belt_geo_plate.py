@@ -12,7 +12,7 @@
 import pytest
 from mpi4py import MPI
 
-import meshes
+from gsi import meshes
 from gsi.case.structure import Structure
 from gsi.config.schema import load
 from gsi.fem import compat

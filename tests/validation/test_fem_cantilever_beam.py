@@ -1,4 +1,4 @@
-"""DESIGN.md case 6b: clamped (cantilever) beam under a tip shear load vs beam theory.
+"""docs/design.md, "Validation cases", case 6b: clamped (cantilever) beam under a tip shear load vs beam theory.
 
 Square section b x b, L / b = 10, tip load P as a uniform shear traction on the end face.
 Timoshenko beam theory: w = P L^3 / (3 E I) + P L / (kappa G A), kappa = 5/6.
@@ -8,7 +8,7 @@ fully clamped 3D root is a little stiffer than the beam-theory root).
 """
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 

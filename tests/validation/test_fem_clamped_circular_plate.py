@@ -1,4 +1,4 @@
-"""DESIGN.md case 6b (plate): clamped circular plate under uniform pressure, on the gmsh
+"""docs/design.md, "Validation cases", case 6b (plate): clamped circular plate under uniform pressure, on the gmsh
 membrane builder's mesh, vs plate theory.
 
 Kirchhoff: w_0 = q a^4 / (64 D), D = E t^3 / (12 (1 - nu^2)) (Timoshenko & Woinowsky-
@@ -10,7 +10,7 @@ whole rim face; P1 tets lock and give only 8 % of the deflection on this mesh).
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 from gsi.fem.surface import ContactSurface

@@ -11,7 +11,7 @@ capacity term is then 1e-9 of the conduction term).
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.heat import Heat
 from gsi.fem.materials import MATERIALS
 

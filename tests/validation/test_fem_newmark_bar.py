@@ -11,7 +11,7 @@ Average acceleration without damping conserves the discrete energy
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 

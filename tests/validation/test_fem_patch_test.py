@@ -1,4 +1,4 @@
-"""DESIGN.md case 6a: uniform-traction patch test -- a linear displacement field is exact.
+"""docs/design.md, "Validation cases", case 6a: uniform-traction patch test -- a linear displacement field is exact.
 
 Block under uniform traction s on x = Lx, held by symmetry planes (u_x = 0 on x = 0,
 u_y = 0 on y = 0, u_z = 0 on z = 0) so that it contracts freely. Exact solution:
@@ -8,7 +8,7 @@ round-off on any mesh, here a gmsh-free structured box and a gmsh slab.
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 

@@ -1,4 +1,4 @@
-"""Mesh convergence of the clamped circular plate (DESIGN.md case 6b) with the iterative
+"""Mesh convergence of the clamped circular plate (docs/design.md, "Validation cases", case 6b) with the iterative
 solver (CG + GAMG), against plate theory.
 
 Same plate as tests/validation/test_fem_clamped_circular_plate.py (a / t = 25, P2 tetrahedra,
@@ -12,7 +12,7 @@ h = a/35 (2.7e5 dofs), is within 0.5 %: -0.43 % (92 CG iterations; 2026-12-02).
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 

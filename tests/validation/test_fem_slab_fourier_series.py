@@ -1,4 +1,4 @@
-"""DESIGN.md case 5: 1D transient slab, insulated at x = 0, fixed temperature at x = L.
+"""docs/design.md, "Validation cases", case 5: 1D transient slab, insulated at x = 0, fixed temperature at x = L.
 
 Reference (Carslaw & Jaeger, §3.4): with theta = (T - T_1)/(T_0 - T_1), Fourier number
 Fo = a t / L^2 and lambda_n = (2n + 1) pi / 2,
@@ -11,7 +11,7 @@ x = const, so the 1D solution is in the P1 space and the problem stays 1D).
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.heat import Heat
 from gsi.fem.materials import StructuralMaterial
 

@@ -1,4 +1,4 @@
-"""DESIGN.md case 7: thermo-elastic bar heated uniformly by dT.
+"""docs/design.md, "Validation cases", case 7: thermo-elastic bar heated uniformly by dT.
 
 * free bar (held only on three symmetry planes): elongation alpha dT L, zero stress;
 * bar clamped axially at both ends, laterally free (uniaxial stress state):
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import ufl
 
-import meshes
+from gsi import meshes
 from gsi.fem import compat
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import MATERIALS

@@ -1,4 +1,4 @@
-"""The heated kiln (gsi.kiln): the long-time heat extrapolation of Haydar, Martin &
+"""The heated kiln (gsi.studies.kiln): the long-time heat extrapolation of Haydar, Martin &
 Bonnefoy (2023, "seed 003") with a wall that is an FE heat structure, against gsi's own
 full DEM + FE run of the same kiln.
 
@@ -32,8 +32,8 @@ import pytest
 
 from gsi.dem.contact_log import ContactLog
 from gsi.extrapolation import cell_error, voronoi_seeds
-from gsi.kiln import kiln_case, kiln_geometry
-from gsi.runner import Runner
+from gsi.studies.kiln import kiln_case, kiln_geometry
+from gsi.run import Runner
 
 
 @pytest.fixture(scope="module")
@@ -55,7 +55,7 @@ def test_the_kiln_is_the_drum_family_cascading(kiln):
     assert res.n_particles == 300 and res.n_lost == 0
     assert log.period == pytest.approx(0.5) and len(csv) == 21
     # the FE wall's contacts are in the log, with their triangles
-    fe_wall = runner.sim._npl + runner.structures[0].wall._w
+    fe_wall = runner.sim.wall_slot(runner.structures[0].wall)
     rows = log.pw_wall == fe_wall
     assert rows.sum() > 100
     assert log.pw_tri[rows].min() >= 0
@@ -112,27 +112,27 @@ def test_wall_contacts_turn_with_the_shell(kiln):
     rotation does; after one period the replay's triangle stands where the logged one
     stood (a quarter turn back in the shell's frame)."""
     from scipy.spatial import cKDTree
-    from gsi.extrapolation import FEWallReplay, _rotate
+    from gsi.extrapolation import FEWallReplay, rotate
     runner, _, _, log = kiln
     st = runner.structures[0]
     itf = st.interface
     omega = 2 * np.pi / 2.0                       # rad/s, one turn per 2 s about +x
     axis, centre = np.array([1.0, 0.0, 0.0]), np.zeros(3)
     # the DEM's wall at the end of the run (t = 3 s, turning since 0.5 s)
-    assert np.abs(st.wall.vertices - _rotate(itf.x0, axis, centre, omega * 2.5)).max() < 1e-9
-    fe_wall = runner.sim._npl + st.wall._w
+    assert np.abs(st.wall.vertices - rotate(itf.x0, axis, centre, omega * 2.5)).max() < 1e-9
+    fe_wall = runner.sim.wall_slot(st.wall)
     K = int(round(log.period / log.dt))
     open_at_t1 = (log.pw_wall == fe_wall) & (log.pw_start + log.pw_dur == K)
     tri = np.unique(log.pw_tri[open_at_t1])
     assert len(tri) > 20
     c = itf.x0[itf.triangles].mean(axis=1)
-    lab_t1 = _rotate(c[tri], axis, centre, omega * (log.t1 - 0.5))
+    lab_t1 = rotate(c[tri], axis, centre, omega * (log.t1 - 0.5))
     d, _ = cKDTree(log.x1).query(lab_t1)
     assert np.median(d) < 0.006 and d.max() < 0.012      # r = 5 mm, triangles ~12 mm
     rep = FEWallReplay(log, st, fe_wall=fe_wall, omega=omega * axis, centre=centre)
     assert rep.n_intervals == 2 and rep.turn_per_period == pytest.approx(np.pi / 2)
     m = rep.triangle_map(1)
-    lab_t2 = _rotate(c[m[tri]], axis, centre, omega * (log.t1 + log.period - 0.5))
+    lab_t2 = rotate(c[m[tri]], axis, centre, omega * (log.t1 + log.period - 0.5))
     assert np.median(np.linalg.norm(lab_t2 - lab_t1, axis=1)) < 0.006
     assert rep.triangle_map(4) is None                   # a whole turn: the identity
 

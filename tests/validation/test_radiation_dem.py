@@ -190,7 +190,7 @@ def test_plane_and_mesh_wall_give_the_same_rate():
 def test_coupled_plate_heated_by_radiation_only_closes_its_books(degree):
     """P1: the heat-only coupling; P2: the thermo-elastic one, whose DEM wall is the face
     split at its edge midpoints (the radiated heat goes to the six parent nodes)."""
-    import meshes
+    from gsi import meshes
     from gsi.coupling.staggered import StaggeredCoupling
     from gsi.coupling.thermal import ThermalCoupling
     from gsi.fem.elasticity import Elasticity
@@ -300,7 +300,7 @@ SILO = ROOT / "demos" / "thermal_silo_radiation.toml"
 
 def test_case_keys_reach_the_simulation():
     from gsi.case import load_case
-    from gsi.runner import build_simulation
+    from gsi.run import build_simulation
     case = load_case(SILO)
     sim, _, _ = build_simulation(case, dt=case.check())
     rad = sim.radiation
@@ -320,7 +320,7 @@ def test_silo_bed_radiation_share_quick(tmp_path):
     heating), 34.9 % of it radiated; 5.256 kJ without the bed's radiation."""
     import tomllib
     from gsi.case import case_from_table
-    from gsi.runner import run_case
+    from gsi.run import run_case
     out = {}
     for name, on in (("rad", True), ("ref", False)):
         t = tomllib.loads(SILO.read_text())

@@ -18,7 +18,7 @@ import pytest
 import scipy.constants
 import scipy.optimize
 
-import meshes
+from gsi import meshes
 from gsi.errors import GsiInputError
 from gsi.fem.heat import Heat
 from gsi.fem.materials import StructuralMaterial

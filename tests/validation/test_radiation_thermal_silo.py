@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from gsi.case import case_from_table
-from gsi.runner import run_case
+from gsi.run import run_case
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CASE = ROOT / "demos" / "thermal_silo.toml"

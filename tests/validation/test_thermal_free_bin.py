@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from petsc4py import PETSc
 
-import meshes
+from gsi import meshes
 from gsi.coupling.staggered import StaggeredCoupling
 from gsi.coupling.thermal import ThermalCoupling
 from gsi.dem import Material, Simulation

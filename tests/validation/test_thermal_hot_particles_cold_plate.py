@@ -1,4 +1,4 @@
-"""DESIGN.md case 9: hot particles fall onto a cold thermo-elastic plate.
+"""docs/design.md, "Validation cases", case 9: hot particles fall onto a cold thermo-elastic plate.
 
 Nine particles at 600 K drop onto a clamped steel plate (P1 or P2 elasticity) at 300 K whose underside is cooled
 by convection; they bounce, conduct heat to the plate and among themselves, and push it.
@@ -12,7 +12,7 @@ the DEM wall.
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.coupling.staggered import StaggeredCoupling
 from gsi.coupling.thermal import ThermalCoupling
 from gsi.dem import Material, Simulation

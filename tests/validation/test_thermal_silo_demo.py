@@ -1,4 +1,4 @@
-"""The thermal silo demo in its quick form, checked for physics (DESIGN.md case 9 at scale).
+"""The thermal silo demo in its quick form, checked for physics (docs/design.md, "Validation cases", case 9 at scale).
 
 450 clinker particles at 800 K settle in a steel bin cooled outside (demos/thermal_silo.toml,
 ``--quick``: 200 coupling steps, 60 s of heating with the documented time scale 200).
@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from gsi.case import load_case
-from gsi.runner import run_case
+from gsi.run import run_case
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CASE = ROOT / "demos" / "thermal_silo.toml"

@@ -1,6 +1,6 @@
 """Particle-wall conduction through the FE coupling against exact two-body references.
 
-DESIGN.md case 9 ("hot particles on a cold wall") in its smallest form: ONE fixed particle
+docs/design.md, "Validation cases", case 9 ("hot particles on a cold wall") in its smallest form: ONE fixed particle
 touches ONE triangle of the contact face of a small FE block.
 
 * Lumped two-body limit: with a very high wall conductivity the block is isothermal, so
@@ -22,7 +22,7 @@ import math
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.coupling.thermal import ThermalCoupling
 from gsi.dem import Material, Simulation
 from gsi.fem.heat import Heat

@@ -3,7 +3,7 @@
 The thesis's case 4 (``demos/graded/case4_two_particles.toml``: R = 2 mm, overlap 0.2 mm,
 contact radius a = 0.6245 mm, ``radius`` model H = 2 k a = 0.481 W/K for copper) has
 Bi = 0.481/(385 pi 0.002) = 0.199 = 2 a/(pi R): not << 1, so
-:func:`gsi.case.biot.check_biot` warns naming ``dem.heat``. The ``area`` model on the same
+:func:`gsi.case.biot_check.check_biot` warns naming ``dem.heat``. The ``area`` model on the same
 contact gives 2 a/(sqrt(pi) R) = 0.352; a light contact (overlap 1 um) stays below 0.1.
 """
 import dataclasses
@@ -14,9 +14,9 @@ import warnings
 import pytest
 
 from gsi.case import load_case
-from gsi.case.biot import BiotWarning, check_biot
-from gsi.dem.biot import biot_number
-from gsi.runner import build_simulation
+from gsi.case.biot_check import BiotWarning, check_biot
+from gsi.post.biot import biot_number
+from gsi.run import build_simulation
 
 GRADED = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded"
 R, L = 2.0e-3, 3.8e-3

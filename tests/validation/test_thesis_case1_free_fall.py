@@ -2,7 +2,7 @@
 
 The case is ``demos/graded/case1_free_fall.toml`` (Table III.1: linear law K = 6000 N/m,
 e_pw = 0.5, copper r = 2 mm, the 0.05 x 0.0375 m box, quasi-2D between frictionless
-planes); the test drives its DEM step by step (``gsi.runner.build_simulation``).
+planes); the test drives its DEM step by step (``gsi.run.build_simulation``).
 
 Rebound height: the apex of the centre above the touch point z = R, taken in free flight
 right after the contact ends as h = (z - R) + v_z^2/(2 g) (exact: velocity Verlet
@@ -31,7 +31,7 @@ import pytest
 from scipy.optimize import brentq
 
 from gsi.case import load_case
-from gsi.runner import build_simulation
+from gsi.run import build_simulation
 
 CASE = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded" / "case1_free_fall.toml"
 G = 9.81

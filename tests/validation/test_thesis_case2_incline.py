@@ -31,7 +31,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from gsi.case import load_case
-from gsi.runner import build_simulation
+from gsi.run import build_simulation
 
 CASE = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded" / "case2_incline.toml"
 G = 9.81

@@ -28,7 +28,7 @@ import pathlib
 import numpy as np
 
 from gsi.case import load_case
-from gsi.runner import Runner
+from gsi.run import Runner
 
 CASE = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded" / "case3_heap.toml"
 

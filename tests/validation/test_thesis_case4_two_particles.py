@@ -38,7 +38,7 @@ import numpy as np
 import pytest
 
 from gsi.case import load_case
-from gsi.runner import build_simulation
+from gsi.run import build_simulation
 
 CASE = (pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded"
         / "case4_two_particles.toml")

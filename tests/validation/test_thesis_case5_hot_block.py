@@ -2,7 +2,7 @@
 heat diffuses through the particle contacts.
 
 The case is ``demos/graded/case5_hot_block.toml``, run by the runner as a user would
-(``gsi.runner.Runner``; monitors as arrays). 25 copper particles at 373.15 K fall 7 mm
+(``gsi.run.Runner``; monitors as arrays). 25 copper particles at 373.15 K fall 7 mm
 onto 24 at 273.15 K resting on the floor; ``radius`` model; adiabatic walls (the thesis:
 heat only between particles).
 
@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from gsi.case import load_case
-from gsi.case.biot import check_biot
-from gsi.runner import Runner
+from gsi.case.biot_check import check_biot
+from gsi.run import Runner
 
 CASE = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded" / "case5_hot_block.toml"
 

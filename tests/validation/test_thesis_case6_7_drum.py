@@ -58,7 +58,7 @@ import numpy as np
 import pytest
 
 from gsi.case import load_case
-from gsi.runner import Runner
+from gsi.run import Runner
 
 GRADED = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded"
 HALF_TURN = 1.0      # s at 30 rpm

@@ -40,6 +40,9 @@ ROLLING = {"none": rolling.none, "cdt": rolling.cdt}
 HEAT = {"none": heat.none_lanes, "area": heat.area_lanes, "radius": heat.radius_lanes,
         "constant": heat.constant_lanes, "pipe": heat.pipe_lanes}
 
+# "none" is entry 0 of ROLLING and HEAT: evaluate() skips it (a buffer starts with zeros)
+assert list(ROLLING)[0] == "none" and list(HEAT)[0] == "none"
+
 _NORMAL = tuple(NORMAL.values())
 _TANGENTIAL = tuple(TANGENTIAL.values())
 _ROLLING = tuple(ROLLING.values())
@@ -112,8 +115,11 @@ def evaluate(l0, l1, B, tab, row, dt, model):
     pair-table row ``row``: normal, tangential, rolling, heat (module docstring)."""
     normal_stage(model[M_NORMAL], l0, l1, B, tab, row, dt)
     tangential_stage(model[M_TANGENTIAL], l0, l1, B, tab, row, dt)
-    rolling_stage(model[M_ROLLING], l0, l1, B, tab, row, dt)
-    heat_stage(model[M_HEAT], l0, l1, B, tab, row, dt)
+    # "none" (entry 0) is skipped: its outputs keep the zeros the buffers start with
+    if model[M_ROLLING] != 0:
+        rolling_stage(model[M_ROLLING], l0, l1, B, tab, row, dt)
+    if model[M_HEAT] != 0:
+        heat_stage(model[M_HEAT], l0, l1, B, tab, row, dt)
 
 
 @njit(_nrt=False)

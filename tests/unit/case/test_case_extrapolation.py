@@ -6,7 +6,7 @@ import tomllib
 import pytest
 
 from gsi.case import case_from_table, case_to_table
-from gsi.drum import drum_case, drum_geometry
+from gsi.studies.drum import drum_case, drum_geometry
 from gsi.errors import GsiInputError
 from gsi.extrapolation import CaseExtrapolation
 
@@ -62,7 +62,7 @@ def test_demo_toml_reads():
 
 
 def kiln_table(**over):
-    from gsi.kiln import kiln_case, kiln_geometry
+    from gsi.studies.kiln import kiln_case, kiln_geometry
     t = case_to_table(kiln_case(kiln_geometry(300), periods=20, compare_periods=3))
     for key, value in over.items():
         path = key.split("__")

@@ -47,7 +47,7 @@ def contacts_now(sim):
     """{key: size} of the contacts of the last force pass, computed here from the state:
     key (i, j) for pairs (ids, i < j), (i, "plane", p), (i, "tri", t)."""
     out = {}
-    P, pairs, pl, M, wc = sim._bundles()
+    P, pairs, pl, M, wc = sim.bundles()
     x, r, ids = P.x, P.radius, P.id
     for i in range(sim.n):
         for k in range(pairs.start[i], pairs.start[i + 1]):

@@ -95,8 +95,6 @@ def test_sub_models_by_name():
                          list(HEAT).index("none"), 1]
     rng = np.random.default_rng(1)
     B = _buffer(10, rng)
-    B[int(L.MX):int(L.MX) + 10] = 1.0
-    B[int(L.Q):int(L.Q) + 10] = 1.0
     evaluate(0, 10, B, pair_table([MAT]).reshape(1, -1), 0, 1e-6, model_ids("hertz"))
     assert not _get(B, L.MX, 10).any() and not _get(B, L.Q, 10).any()
     for kw, key in [({"normal": "hooke"}, "contact"), ({"heat": "areas"}, "heat"),

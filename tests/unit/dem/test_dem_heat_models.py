@@ -1,4 +1,4 @@
-"""Contact conductance models (DESIGN.md "Heat in particles") evaluated directly."""
+"""Contact conductance models (docs/design.md, "Heat in particles") evaluated directly."""
 import math
 
 import pytest

@@ -55,8 +55,8 @@ def test_history_survives_rebuild_and_deletion(sort):
     before = springs()
     assert len(before) == 20 and all(np.abs(h).max() > 0 for h in before.values())
     rb = sim.n_rebuilds
-    sim._delete(np.isin(sim.ids, [0, 3, 30]))     # three idle particles
-    sim._rebuild()
+    sim.remove_particles(np.isin(sim.ids, [0, 3, 30]))     # three idle particles
+    sim.rebuild_lists()
     after = springs()
     assert sim.n_rebuilds == rb + 1
     assert set(after) == set(before)

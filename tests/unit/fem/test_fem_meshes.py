@@ -4,11 +4,11 @@ import math
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.errors import GsiInputError
 from gsi.fem import compat
 from gsi.fem.elasticity import Elasticity
-from meshes import shell
+from gsi.meshes import shell
 
 
 def _area(sm, name):

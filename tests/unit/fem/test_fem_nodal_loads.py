@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 from petsc4py import PETSc
 
-import meshes
+from gsi import meshes
 from gsi.errors import GsiInputError
 from gsi.fem import compat
-from gsi.fem._base import VertexDofMap
+from gsi.fem.problem import VertexDofMap
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.heat import Heat
 from gsi.fem.surface import ContactSurface

@@ -4,7 +4,7 @@ import csv
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.materials import MATERIALS
 from gsi.fem.output import FemOutput
 from gsi.fem.surface import ContactSurface

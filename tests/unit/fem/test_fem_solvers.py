@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from petsc4py import PETSc
 
-import meshes
+from gsi import meshes
 from gsi.case.structure import Structure
 from gsi.config.schema import load
 from gsi.errors import GsiInputError
@@ -103,18 +103,18 @@ def test_out_of_core_factor_is_on_disk_while_it_lives(slab, tmp_path, monkeypatc
     p.step()
     files = list(tmp_path.glob("gsi-mumps-*/mumps_*"))      # in the solver's own directory
     assert files and sum(f.stat().st_size for f in files) > 1e5      # the factor, in bytes
-    assert [f.parent for f in files] == [pathlib.Path(p._solver.scratch_dir)] * len(files)
-    assert p._solver.describe() == "preonly + cholesky"
-    factor = p._solver.ksp.getPC().getFactorMatrix()
+    assert [f.parent for f in files] == [pathlib.Path(p.linear_solver.scratch_dir)] * len(files)
+    assert p.linear_solver.describe() == "preonly + cholesky"
+    factor = p.linear_solver.ksp.getPC().getFactorMatrix()
     assert factor.getMumpsIcntl(22) == 1 and factor.getMumpsIcntl(7) == 5
     del factor                                   # the last reference is the solver's
-    p._solver.destroy()
+    p.linear_solver.destroy()
     assert not list(tmp_path.iterdir())
     assert os.environ["MUMPS_OOC_TMPDIR"] == str(tmp_path)        # the user's, restored
 
 
 _OOC_SCRIPT = """
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 slab = meshes.build("membrane", shape="circle", radius=0.3, thickness=0.03, h=0.06,
                     n_thickness=2)
@@ -122,7 +122,7 @@ p = Elasticity(slab, "steel", degree=2, solver="out_of_core")
 p.clamp("support")
 p.set_traction("contact", [0.0, 0.0, -2.0e4])
 p.solve()
-print(p._solver.scratch_dir)
+print(p.linear_solver.scratch_dir)
 """
 
 
@@ -167,8 +167,8 @@ def test_iterative_builds_its_preconditioner_once_and_warm_starts(slab):
         p.step()
     assert setups.getPerfInfo()["count"] == after_two   # PETSc's own count: no rebuild
     assert p.n_factorizations == 1
-    assert p._solver.describe() == "cg + gamg"
-    assert p._solver.ksp.getInitialGuessNonzero()
+    assert p.linear_solver.describe() == "cg + gamg"
+    assert p.linear_solver.ksp.getInitialGuessNonzero()
     # a second static solve of the same problem starts at the solution: it stays there,
     # with less work (down to the round-off floor ITERATIVE_ATOL ||b|| only)
     s = _static(slab, "iterative")
@@ -203,9 +203,9 @@ def test_auto_is_direct_below_the_measured_crossover(slab):
 def test_petsc_options_reach_their_own_solver_only(slab):
     a = _static(slab, "iterative", petsc_options={"ksp_rtol": 1e-6})
     b = _static(slab, "iterative")
-    assert a._solver.prefix != b._solver.prefix
-    assert a._solver.ksp.getTolerances()[0] == 1e-6
-    assert b._solver.ksp.getTolerances()[0] == ITERATIVE_RTOL
+    assert a.linear_solver.prefix != b.linear_solver.prefix
+    assert a.linear_solver.ksp.getTolerances()[0] == 1e-6
+    assert b.linear_solver.ksp.getTolerances()[0] == ITERATIVE_RTOL
     assert a.iterations[0] < b.iterations[0]
     # gsi's options leave PETSc's database after the first solve
     left = [k for k in PETSc.Options().getAll() if k.startswith("gsi_")]

@@ -1,7 +1,7 @@
 """Checkpoint state: a run restarted from state() continues bit-identically."""
 import numpy as np
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.heat import Heat
 

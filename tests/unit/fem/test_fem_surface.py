@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-import meshes
+from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.heat import Heat
 from gsi.fem.surface import ContactSurface

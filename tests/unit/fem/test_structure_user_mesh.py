@@ -121,7 +121,7 @@ def test_missing_file_and_geometry_of_a_msh_are_input_errors(msh, tmp_path):
 
 
 def test_unknown_geo_parameter_names_the_script_constants():
-    import meshes
+    from gsi import meshes
     st = _structure(file="belt.geo", geometry={"lenght": 1.0})
     msg = _one_line_error(lambda: st.check(base_dir=meshes.DIR),
                           r"^structures\[0\]\.geometry\.lenght = 1\.0: not a DefineConstant")

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import pathlib
 
 import numpy as np
 from mpi4py import MPI
@@ -35,8 +34,8 @@ __all__ = ["CoupledStructure", "IntervalRecord"]
 class IntervalRecord:
     """What :meth:`CoupledStructure.finish` returns: the interval's records.
 
-    ``mechanical``: :class:`gsi.coupling.staggered.CouplingRecord` (None for a thermal-only
-    contact); ``thermal``: :class:`gsi.coupling.thermal.CouplingStep` (None without heat
+    ``mechanical``: :class:`gsi.coupling.records.MechanicalRecord` (None for a thermal-only
+    contact); ``thermal``: :class:`gsi.coupling.records.ThermalRecord` (None without heat
     coupling). ``t`` (s): the time at the end of the interval.
     """
 
@@ -54,7 +53,7 @@ class CoupledStructure:
     name : str
         Output prefix (``<name>.xdmf``, ``<name>.csv``, ``<name>_coupling.csv``,
         ``<name>_energy.csv``).
-    mesh : meshes.StructureMesh
+    mesh : gsi.meshes.StructureMesh
     material : gsi.fem.materials.StructuralMaterial
         Physical (unscaled) material.
     elasticity : gsi.fem.elasticity.Elasticity or None
@@ -105,8 +104,7 @@ class CoupledStructure:
         self.mechanics = None
         self.thermal = None
         self.wall = None
-        self._out_dir = None
-        self._fem_out = None
+        self.output = None            # StructureOutput, after open_output()
         self._open = False
 
     # ------------------------------------------------------------------ coupling
@@ -132,8 +130,8 @@ class CoupledStructure:
                 wall_material=self.wall_material, n_sub=self.n_sub, tag=self.interface.tags,
                 T_ref=self.T_ref, time_scale=self.heat_scale, root=self.root)
         self.wall = (self.thermal or self.mechanics).wall
-        if self._out_dir is not None:
-            self._open_csvs()
+        if self.output is not None:
+            self.output.open_csvs(self.mechanics, self.thermal)
 
     def _coupling(self):
         c = self.thermal or self.mechanics
@@ -269,18 +267,13 @@ class CoupledStructure:
         counters, last loads, surface temperatures, energy baseline, open interval).
         Restore with :meth:`set_state` on the structure built from the same case and
         number of ranks."""
-        from gsi.fem import compat
         d = {}
         if self.elasticity is not None:
             el = self.elasticity
             d.update({f"el.{k}": v for k, v in el.state().items()})
-            d["el.nodal"] = el.nodal.values.copy()
-            d["el.T"] = el.T.x.array[:compat.dof_index_map(el.Q)[0].size_local].copy()
         if self.heat is not None:
             h = self.heat
             d.update({f"heat.{k}": v for k, v in h.state().items()})
-            d["heat.nodal"] = h.nodal.values.copy()
-            d["heat.T_old"] = h.T_old.x.array[:compat.dof_index_map(h.V)[0].size_local].copy()
         for prefix, c in (("mech", self.mechanics), ("therm", self.thermal)):
             if c is not None:
                 d.update({f"{prefix}.{k}": v for k, v in c.state().items()})
@@ -288,24 +281,13 @@ class CoupledStructure:
 
     def set_state(self, d: dict) -> None:
         """Restore :meth:`state` (collective: the FE fields are scattered to the ghosts)."""
-        from gsi.fem import compat
 
         def part(prefix):
             return {k[len(prefix) + 1:]: v for k, v in d.items() if k.startswith(prefix + ".")}
         if self.elasticity is not None:
-            el, st = self.elasticity, part("el")
-            nodal, T = st.pop("nodal"), st.pop("T")
-            el.set_state(st)
-            el.nodal.values[:] = nodal
-            el.T.x.array[:len(T)] = T
-            compat.scatter_forward(el.T)
+            self.elasticity.set_state(part("el"))
         if self.heat is not None:
-            h, st = self.heat, part("heat")
-            nodal, T_old = st.pop("nodal"), st.pop("T_old")
-            h.set_state(st)
-            h.nodal.values[:] = nodal
-            h.T_old.x.array[:len(T_old)] = T_old
-            compat.scatter_forward(h.T_old)
+            self.heat.set_state(part("heat"))
         if self.mechanics is not None:
             self.mechanics.set_state(part("mech"))
         if self.thermal is not None:
@@ -313,59 +295,33 @@ class CoupledStructure:
 
     # ------------------------------------------------------------------ output
     def open_output(self, out_dir, *, xdmf: bool = True, resume: int | None = None) -> None:
-        """Write under ``out_dir``: ``<name>.xdmf`` (+ .h5) and ``<name>.csv`` at every
-        :meth:`write_output` (:class:`gsi.fem.output.FemOutput`), and every interval's
-        records to ``<name>_coupling.csv`` (mechanical) and ``<name>_energy.csv``
-        (thermal). Collective. ``resume=n`` (after :meth:`set_state`) continues the files
-        of an earlier run: the first n field writes and as many coupling rows as there are
-        records are kept, later ones dropped."""
-        from gsi.fem.output import FemOutput
-        self._out_dir = pathlib.Path(out_dir)
-        self._resume = resume is not None
-        self._fem_out = FemOutput(self._out_dir, elasticity=self.elasticity, heat=self.heat,
-                                  prefix=self.name, xdmf=xdmf, resume=resume)
-        if self.mechanics is not None or self.thermal is not None:
-            self._open_csvs()
-
-    def _open_csvs(self) -> None:
-        from gsi.checkpoint import truncate_csv
-        for c, suffix in ((self.mechanics, "coupling"), (self.thermal, "energy")):
-            if c is None:
-                continue
-            path = self._out_dir / f"{self.name}_{suffix}.csv"
-            if getattr(self, "_resume", False):
-                c.csv_path = path
-                if c.is_root:
-                    truncate_csv(path, len(c.records))
-            else:
-                c.open_csv(path)
+        """Write under ``out_dir`` (collective; :class:`gsi.coupling.structure_output.
+        StructureOutput`): ``<name>.xdmf`` (+ .h5) and ``<name>.csv`` at every
+        :meth:`write_output`, and every interval's records to ``<name>_coupling.csv``
+        (mechanical) and ``<name>_energy.csv`` (thermal). ``resume=n`` (after
+        :meth:`set_state`) continues the files of an earlier run."""
+        from gsi.coupling.structure_output import StructureOutput
+        self.output = StructureOutput(self.name, out_dir, elasticity=self.elasticity,
+                                      heat=self.heat, xdmf=xdmf, resume=resume)
+        self.output.open_csvs(self.mechanics, self.thermal)
 
     @property
     def n_writes(self) -> int:
         """Field writes so far (0 without output)."""
-        return 0 if self._fem_out is None else self._fem_out.n_writes
+        return 0 if self.output is None else self.output.n_writes
 
     def write_output(self, t: float) -> dict:
         """Append the fields at time ``t`` (s) and a row of ``<name>.csv`` (collective).
         Returns the row."""
-        if self._fem_out is None:
+        if self.output is None:
             raise RuntimeError(f"structure {self.name!r}: call open_output(out_dir) first")
-        return self._fem_out.write(t)
+        return self.output.write(t)
 
     def output_files(self) -> list:
         """Paths written so far under the output directory."""
-        if self._out_dir is None:
-            return []
-        names = [f"{self.name}.xdmf", f"{self.name}.csv"]
-        if self.mechanics is not None:
-            names.append(f"{self.name}_coupling.csv")
-        if self.thermal is not None:
-            names.append(f"{self.name}_energy.csv")
-        return [self._out_dir / n for n in names]
+        return [] if self.output is None else self.output.files(self.mechanics, self.thermal)
 
     def close(self) -> None:
         """Close the output files (collective)."""
-        if self._fem_out is not None:
-            self._fem_out.close()
-            self._fem_out = None
-
+        if self.output is not None:
+            self.output.close()

@@ -1,11 +1,4 @@
-"""Pieces shared by the FE problems: vertex <-> dof maps, nodal loads, the linear solvers.
-
-Global vertex ids
------------------
-gsi names mesh vertices by their *global vertex id*: the index of the node in the array the
-mesh was built from, i.e. the gmsh node tag minus one for gmsh meshes
-(``mesh.geometry.input_global_indices``). It does not depend on the number of MPI ranks,
-so a load given at a global vertex id lands on the same physical node on 1 or N ranks.
+"""The linear solvers of the FE problems (their shared base: :mod:`gsi.fem.problem`).
 
 Linear solvers
 --------------
@@ -51,91 +44,6 @@ from . import compat
 from .options import (AUTO_LARGE_DOFS, ITERATIVE_ATOL, ITERATIVE_DEFAULTS,  # noqa: F401
                       ITERATIVE_RTOL, OUT_OF_CORE_DEFAULTS, SOLVERS, choose_solver,
                       petsc_option_strings)
-
-
-class VertexDofMap:
-    """Map between mesh vertices (global ids) and the dofs of a Lagrange space.
-
-    Built once, cell by cell: for P1 and P2 Lagrange on tetrahedra the first four dofs
-    of a cell sit at its four vertices, in the order of the cell's geometry nodes.
-
-    Attributes
-    ----------
-    node_dof : ndarray (n_nodes,) int32
-        Local (block) dof of every local geometry node.
-    global_ids : ndarray (n_nodes,) int64
-        Global vertex id of every local geometry node.
-    owned_ids, owned_dofs : ndarray
-        Global ids of the vertices whose dof this rank owns (sorted) and their dofs.
-    n_global : int
-        Number of vertices of the whole mesh.
-    """
-
-    def __init__(self, V):
-        mesh = V.mesh
-        self.V = V
-        self.bs = V.dofmap.index_map_bs
-        gdm = compat.geometry_dofmap(mesh)
-        cdofs = compat.cell_dofs(V)
-        n_nodes = compat.geometry_x(mesh).shape[0]
-        node_dof = np.full(n_nodes, -1, dtype=np.int32)
-        node_dof[gdm[:, :4].ravel()] = cdofs[:, :4].ravel()
-        if np.any(node_dof < 0):
-            raise RuntimeError("VertexDofMap: some geometry node is not a cell vertex")
-        self.node_dof = node_dof
-        self.global_ids = compat.input_global_indices(mesh)
-        imap, _ = compat.dof_index_map(V)
-        owned = node_dof < imap.size_local
-        order = np.argsort(self.global_ids[owned])
-        self.owned_ids = self.global_ids[owned][order]
-        self.owned_dofs = node_dof[owned][order]
-        self.owned_nodes = np.flatnonzero(owned)[order]
-        self.n_global = mesh.comm.allreduce(int(self.owned_ids.size), op=MPI.SUM)
-
-    def lookup_owned(self, global_ids: np.ndarray):
-        """(positions in ``global_ids`` owned here, their local block dofs)."""
-        ids = np.asarray(global_ids, dtype=np.int64)
-        if ids.size and (ids.min() < 0 or ids.max() >= self.n_global):
-            raise GsiInputError(f"nodal load vertex id = {int(ids.min()) if ids.min() < 0 else int(ids.max())}: "
-                                f"must be in [0, {self.n_global}) (global vertex ids of the mesh)")
-        if self.owned_ids.size == 0:
-            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int32)
-        pos = np.minimum(np.searchsorted(self.owned_ids, ids), self.owned_ids.size - 1)
-        hit = self.owned_ids[pos] == ids
-        rows = np.flatnonzero(hit)
-        return rows, self.owned_dofs[pos[rows]]
-
-
-class NodalLoads:
-    """Point loads at vertices, kept on the owned unrolled dofs of a space.
-
-    The loads are *added* to the assembled right-hand side every step until cleared.
-    """
-
-    def __init__(self, vmap: VertexDofMap):
-        self.vmap = vmap
-        imap, bs = compat.dof_index_map(vmap.V)
-        self.values = np.zeros(imap.size_local * bs)
-
-    def add(self, global_ids, loads) -> None:
-        """Accumulate ``loads`` (n, bs) (or (n,) for bs = 1) at ``global_ids`` (n,).
-
-        Every rank may pass any loads: each rank keeps those at vertices it owns, so the
-        call is correct when all ranks pass the same arrays, or when each rank passes
-        (at least) the loads at its own vertices. Loads at vertices owned elsewhere are
-        ignored on this rank.
-        """
-        bs = self.vmap.bs
-        ids = np.asarray(global_ids, dtype=np.int64).ravel()
-        F = np.asarray(loads, dtype=float).reshape(ids.size, bs)
-        if not np.all(np.isfinite(F)):
-            raise GsiInputError("nodal loads: must be finite numbers (N or W)")
-        rows, dofs = self.vmap.lookup_owned(ids)
-        for c in range(bs):
-            np.add.at(self.values, dofs * bs + c, F[rows, c])
-
-    def clear(self) -> None:
-        self.values[:] = 0.0
 
 
 _prefix_counter = itertools.count()

@@ -1,4 +1,5 @@
-"""A bed of particles at rest on a clamped membrane (DESIGN.md validation case 8).
+"""A bed of particles at rest on a clamped membrane (docs/design.md, "Validation cases",
+case 8).
 
 A single layer of n x n softwood spheres (seed 000, Table 3; plus rolling resistance so
 that they come to rest) is placed just above the top face of a clamped circular plate
@@ -13,7 +14,7 @@ quasi-static with under-relaxation. At rest:
   the particles, to round-off.
 
 Used by tests/validation/test_coupling_bed_on_membrane.py and the MPI test; runnable on
-its own: ``python -m gsi.coupling.validation`` prints the key numbers.
+its own: ``python -m gsi.studies.bed_on_membrane`` prints the key numbers.
 """
 from __future__ import annotations
 

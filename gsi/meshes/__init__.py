@@ -1,12 +1,13 @@
 """gmsh-API builders of the structures gsi ships, picked by name (e.g. from TOML).
 
->>> import meshes
+>>> from gsi import meshes
 >>> sm = meshes.build("membrane", shape="circle", radius=0.5, thickness=0.01, h=0.05)
 >>> sm.tags        # {'contact': 1, 'support': 2, 'outer': 3, 'volume': 100}
 
 A user's own gmsh ``.geo`` or ``.msh`` file with physical groups:
-``meshes.load_file("belt.geo", params={"length": 1.2})`` (:mod:`meshes.file`); ``belt.geo``
-here is such a file (a belt section with its own group names).
+``meshes.load_file("belt.geo", params={"length": 1.2})`` (:mod:`gsi.meshes.file`); the
+repository's top-level ``meshes/`` folder (:data:`DIR`) holds the shipped gmsh geometries,
+``belt.geo`` among them (a belt section with its own group names).
 
 Every builder returns a :class:`StructureMesh` (dolfinx mesh, cell and facet tags, and the
 name -> number map of its physical groups). Every builder tags at least "contact" (the
@@ -25,8 +26,10 @@ from ._common import StructureMesh
 from .file import load as load_file
 from .file import physical_groups
 
-#: directory of the shipped gmsh files (belt.geo)
-DIR = pathlib.Path(__file__).resolve().parent
+#: directory of the shipped gmsh files (belt.geo): the top-level ``meshes/`` folder of the
+#: source checkout (gsi is installed editable from it); this package holds only the Python
+DIR = pathlib.Path(__file__).resolve().parents[2] / "meshes"
+
 
 BUILDERS = {
     "membrane": membrane.build,

@@ -1,6 +1,6 @@
 """Silo shell with a structured wall: a cylinder on a conical hopper, revolved from its profile.
 
-Made for large structures (benchmarks/fe_scale.py): unlike :mod:`meshes.silo` (gmsh's
+Made for large structures (benchmarks/fe_scale.py): unlike :mod:`gsi.meshes.silo` (gmsh's
 unstructured Delaunay mesh of the solid), the wall here is a structured mesh with exactly
 ``n_thickness`` element layers through the thickness whatever the in-plane size ``h``,
 so one parameter takes the P2 problem from 10^4 to 10^6 dofs with the same wall
@@ -9,7 +9,7 @@ transfinite quadrilateral patches split into triangles and revolved about the z 
 four quarter turns with ``n_theta / 4`` layers each; gmsh splits each revolved prism into
 three tetrahedra.
 
-Geometry (axis z, as :mod:`meshes.silo` with ``bottom = "conical"``): the inner cylinder
+Geometry (axis z, as :mod:`gsi.meshes.silo` with ``bottom = "conical"``): the inner cylinder
 of radius ``radius`` from z = 0 to z = ``height`` (open top), on a hopper from the inner
 radius at z = 0 down to the outlet of inner radius ``outlet_radius`` at
 z = -``hopper_height``; normal wall thickness ``thickness``. The outlet rim and the top

@@ -1,11 +1,11 @@
-"""Lacey's mixing index (gsi.dem.mixing) and the 'mixing' monitor's input checks."""
+"""Lacey's mixing index (gsi.post.mixing) and the 'mixing' monitor's input checks."""
 import math
 
 import numpy as np
 import pytest
 
 from gsi.case.case import case_from_table
-from gsi.dem.mixing import lacey_index
+from gsi.post.mixing import lacey_index
 from gsi.errors import GsiInputError
 
 BOX = ([0.0, 0.0, 0.0], [1.0, 1.0, 1.0])

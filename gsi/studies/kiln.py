@@ -1,7 +1,7 @@
 """A heated kiln: the rotating drum of seed 003 (Haydar, Martin & Bonnefoy 2023, Chem.
 Eng. Sci. 277, 118815) whose shell is an FE heat structure held hot on its outside.
 
-The bed is the drum's (:mod:`gsi.drum`): spheres of r = 5 mm with the materials of the
+The bed is the drum's (:mod:`gsi.studies.drum`): spheres of r = 5 mm with the materials of the
 paper's Tables 3-4 (c_p = 840 J/(kg K), Hertz contacts with rolling resistance, the
 "area" conductance) but a limestone-like conductivity :data:`K_GRAIN` = 2 W/(m K)
 instead of 100 (``k_grain``), filled by lattice, settled with the kiln at rest,
@@ -10,7 +10,7 @@ the half y < 0 set to :data:`T_HOT` and the other to :data:`T_COLD`, then turned
 The kiln (:func:`kiln_case`):
 
 - the shell is a steel tube (k = 53.3 W/(m K), c = 440 J/(kg K), rho = 7850 kg/m^3;
-  :mod:`meshes.drum`, axis along x from 0 to L, inner radius R, 5 mm thick, P1) whose
+  :mod:`gsi.meshes.drum`, axis along x from 0 to L, inner radius R, 5 mm thick, P1) whose
   outer surface is held at :data:`T_SHELL` (a Dirichlet tag: the heating jacket), its
   ends insulated; it starts at :data:`T_SHELL` throughout;
 - its inner surface is the DEM wall the bed touches (the wall material has the seed's
@@ -22,7 +22,7 @@ The kiln (:func:`kiln_case`):
   ``n_sub`` DEM steps; the long-time replay (:class:`gsi.extrapolation.FEWallReplay`)
   after one logged period.
 
-Sizes (:func:`kiln_geometry`): the drums of :func:`gsi.drum.drum_geometry` (same fill and
+Sizes (:func:`kiln_geometry`): the drums of :func:`gsi.studies.drum.drum_geometry` (same fill and
 Froude number for N particles) with the turn rounded to a whole number of
 :data:`TURN_STEP` DEM steps, so that a quarter turn is a whole number of coupling
 intervals of :data:`N_SUB` steps.  The rounding moves Fr off the seed's 0.048: 0.047 for
@@ -34,7 +34,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from gsi.drum import DT, PARTICLE_RADIUS, G, DrumGeometry, drum_geometry
+from gsi.studies.drum import DT, PARTICLE_RADIUS, G, DrumGeometry, drum_geometry
 from gsi.errors import GsiInputError
 
 __all__ = ["KilnGeometry", "kiln_geometry", "kiln_case", "T_HOT", "T_COLD", "T_SHELL",
@@ -59,14 +59,14 @@ SHELL_THICKNESS = 0.005
 @dataclasses.dataclass(frozen=True)
 class KilnGeometry(DrumGeometry):
     """A kiln of the family (module docstring): the fields and properties of
-    :class:`gsi.drum.DrumGeometry` (``particles``, inner ``radius`` and ``length`` in m,
-    ``steps_per_turn`` of :data:`gsi.drum.DT`, ``period``, ``rpm``, ``froude``,
+    :class:`gsi.studies.drum.DrumGeometry` (``particles``, inner ``radius`` and ``length`` in m,
+    ``steps_per_turn`` of :data:`gsi.studies.drum.DT`, ``period``, ``rpm``, ``froude``,
     ``regime``), here with the axis along x."""
 
 
 def kiln_geometry(particles: int) -> KilnGeometry:
     """The kiln holding ``particles`` spheres: the drum of
-    :func:`gsi.drum.drum_geometry` with its turn rounded to whole :data:`TURN_STEP` s."""
+    :func:`gsi.studies.drum.drum_geometry` with its turn rounded to whole :data:`TURN_STEP` s."""
     d = drum_geometry(particles)
     steps = max(TURN_STEP, int(round(d.steps_per_turn / TURN_STEP)) * TURN_STEP)
     return KilnGeometry(particles=d.particles, radius=d.radius, length=d.length,

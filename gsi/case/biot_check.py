@@ -1,17 +1,17 @@
 """The Biot-number check of a case (seed 001 (thesis), eq. II.4).
 
 :func:`check_biot` is the case-level entry point for the runner and ``gsi check``: given a
-case and its DEM (after :func:`gsi.runner.build_simulation`, after ``Runner.setup`` or at
+case and its DEM (after :func:`gsi.run.build_simulation`, after ``Runner.setup`` or at
 any time of a run), it reports the Biot number Bi = H/(k pi R) of the particle contacts
-(:func:`gsi.dem.biot.contact_biot`) and warns, naming ``dem.heat``, when Bi is not << 1
-(above :data:`gsi.dem.biot.BIOT_LIMIT` = 0.1). The thesis's case 4 (two particles of
+(:func:`gsi.post.biot.contact_biot`) and warns, naming ``dem.heat``, when Bi is not << 1
+(above :data:`gsi.post.biot.BIOT_LIMIT` = 0.1). The thesis's case 4 (two particles of
 R = 2 mm overlapping by 0.2 mm, ``radius`` model) gives Bi = 0.199 and a warning.
 """
 from __future__ import annotations
 
 import warnings
 
-from gsi.dem.biot import BIOT_LIMIT, BiotReport, contact_biot
+from gsi.post.biot import BIOT_LIMIT, BiotReport, contact_biot
 
 __all__ = ["check_biot", "BiotWarning"]
 
@@ -36,7 +36,7 @@ def check_biot(case, sim, *, limit: float = BIOT_LIMIT, warn: bool = True) -> Bi
 
     Returns
     -------
-    gsi.dem.biot.BiotReport or None
+    gsi.post.biot.BiotReport or None
         None when the case has no particle heat.
     """
     if not case.thermal:

@@ -234,7 +234,7 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     """
     import pathlib
     import time
-    from gsi.runner import build_simulation
+    from gsi.case.build_dem import build_simulation
     say = say or (lambda m: None)
     case = drum_case(geometry, settle=settle, seed=seed, skin=skin)
     dt = case.check()
@@ -267,7 +267,7 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
         say(f"resumed the set-up at step {done} of {n_total} from {path}")
     while True:
         if done == n_settle and hot is None:
-            hot = np.zeros(sim._next_id, bool)
+            hot = np.zeros(sim.next_id, bool)
             hot[sim.ids] = sim.x[:, 0] < 0.0
             sim.T[:] = np.where(hot[sim.ids], T_HOT, T_COLD)
         if done >= n_settle:

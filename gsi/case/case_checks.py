@@ -1,0 +1,159 @@
+"""The checks of a case that look at several of its tables together (called by
+:meth:`gsi.case.case.Case.check`): the Verlet skin, the stiffness against the impact
+speed, the overlaps of placed particles, the streams' rates and the radiation's
+stability."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from gsi.case.sources import MAX_OVERLAP
+from gsi.errors import GsiInputError
+
+#: largest Verlet skin, in largest particle radii
+MAX_SKIN = 4.0
+#: largest head-on overlap of two particles meeting at the estimated impact speed, as a
+#: fraction of the radius (a softer material lets particles pass through each other)
+MAX_IMPACT_OVERLAP = 0.5
+
+def check_skin(case) -> None:
+    """A Verlet skin above MAX_SKIN largest radii (or the domain) is a unit slip: every
+    particle would list every other as a neighbour."""
+    skin = case.dem.skin
+    if skin is None:
+        return
+    r_max = case.largest_radius()
+    limit = min(MAX_SKIN * r_max, case.dem.domain_size)
+    if skin > limit:
+        raise GsiInputError(
+            f"dem.skin = {skin:g}: larger than {MAX_SKIN:g} x the largest particle radius "
+            f"({r_max:g} m) or the domain; use about 0.4 x the smallest radius = "
+            f"{0.4 * case.smallest_radius():.3g} m, or remove it for the default (m)")
+
+
+def check_stiffness(case) -> None:
+    """Particles of each source meeting head-on at :meth:`impact_speed` must not
+    overlap by more than MAX_IMPACT_OVERLAP of their radius: Hertz (Johnson, Contact
+    Mechanics, eq. 11.24) delta = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) with m* = m/2,
+    R* = r/2, E* = E / (2 (1 - nu^2)); linear law delta = v sqrt(m*/k_n). delta / r
+    does not depend on r. A softer material (E = 1 Pa) lets every particle pass
+    through its neighbours and out of the domain."""
+    for i, p in enumerate(case.particles):
+        v = case.impact_speed(i)
+        if v <= 0:
+            continue
+        mat = case.materials[p.material]
+        r = case.source_largest_radius(i)
+        m_star = 0.5 * mat.rho * 4.0 / 3.0 * math.pi * r ** 3
+        if case.dem.contact == "linear":
+            delta = v * math.sqrt(m_star / case.dem.k_n)
+            if delta > MAX_IMPACT_OVERLAP * r:
+                need = case.dem.k_n * (delta / (0.1 * r)) ** 2
+                raise GsiInputError(
+                    f"dem.k_n = {case.dem.k_n:g}: too soft; particles[{i}] (radius {r:g} m) "
+                    f"meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their radius; "
+                    f"use k_n >= {need:.3g} N/m (overlap 0.1 r)")
+            continue
+        e_star = mat.E / (2.0 * (1.0 - mat.nu ** 2))
+        delta = (15.0 * m_star * v ** 2 / (16.0 * e_star * math.sqrt(0.5 * r))) ** 0.4
+        if delta > MAX_IMPACT_OVERLAP * r:
+            need = mat.E * (delta / (0.1 * r)) ** 2.5
+            raise GsiInputError(
+                f"materials.{p.material}.E = {mat.E:g}: too soft; particles[{i}] (radius "
+                f"{r:g} m) meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their "
+                f"radius and pass through each other; use E >= {need:.3g} Pa (overlap "
+                f"0.1 r; check the units: Pa)")
+
+
+def check_placed_overlaps(case) -> None:
+    """Particles placed at known positions (files, lattice fills) must not overlap one
+    another (within a file, or across sources) by more than MAX_OVERLAP of the smaller
+    radius: they would fly apart. With ``dem.force_dt`` a warning instead. A lattice
+    fill counts with its smallest radius here (its radii are drawn at the run's start,
+    when :meth:`ParticleSource.add_to` checks again); overlaps with random fills
+    (positions drawn at the start) are found there too."""
+    from gsi.case.sources import first_overlap, read_particle_file
+    seen_x, seen_r, seen_from = [], [], []
+    for i, p in enumerate(case.particles):
+        if p.fill == "file":
+            data = read_particle_file(case.base_dir / p.file, key=f"particles[{i}].file",
+                                      shown=p.file)
+            x, r = data["x"], data["radius"]
+            key, what = f"particles[{i}].file = '{p.file}'", "row"
+            hit = first_overlap(x, r, MAX_OVERLAP)
+            pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
+        elif p.fill == "lattice":
+            x = p.lattice_sites(f"particles[{i}]")
+            r = np.full(len(x), p.size.smallest)
+            key, what, hit = f"particles[{i}].region", "lattice site", None
+        else:
+            continue
+        if hit is None and seen_x:
+            hit = first_overlap(x, r, MAX_OVERLAP, other_x=np.concatenate(seen_x),
+                                other_r=np.concatenate(seen_r))
+            if hit is not None:
+                pair = f"{what} {hit[0]} and {seen_from[hit[1]]}"
+        if hit is not None:
+            msg = (f"{key}: {pair} overlap by {hit[2]:.3g} x the smaller radius (more than "
+                   f"{MAX_OVERLAP:g}); they would fly apart: separate them, shrink the "
+                   "radii, or move the region")
+            if not case.dem.force_dt:
+                raise GsiInputError(msg + " (or dem.force_dt = true to run anyway)")
+            warnings.warn(f"dem.force_dt = true: {msg}", stacklevel=3)
+        seen_x.append(x)
+        seen_r.append(r)
+        seen_from += ([f"row {k} of particles[{i}].file" for k in range(len(x))]
+                      if p.fill == "file" else
+                      [f"lattice site {k} of particles[{i}]" for k in range(len(x))])
+
+
+def check_streams(case, dt: float) -> None:
+    """A stream must not be asked for more particles per step (rate x dt) than its
+    region holds (a random fill jams at RANDOM_FILL_LIMIT): the rest would be skipped
+    silently."""
+    from gsi.case.sources import RANDOM_FILL_LIMIT
+    for i, p in enumerate(case.particles):
+        if p.fill != "stream":
+            continue
+        per_step = p.rate * dt
+        holds = RANDOM_FILL_LIMIT * p.region.volume / p.size.mean_volume()
+        if per_step > holds:
+            raise GsiInputError(
+                f"particles[{i}].rate = {p.rate:g}: {per_step:.3g} particles per DEM step "
+                f"(rate x dt, dt = {dt:.3g} s) but the region holds about {holds:.3g}; "
+                f"lower the rate (at most {holds / dt:.3g} 1/s) or enlarge the region")
+
+
+def check_radiation(case, dt: float) -> None:
+    """The explicit radiation update must be stable at the start (the bound of
+    :mod:`gsi.dem.radiation`, which the run checks again at every evaluation):
+    radiation_every x dt x 4 eps sigma T_max^3 A/(m c_p) <= 1 with A/m = 3/(R rho)
+    at each source's smallest radius, c_p divided by the heat-time scale, T_max the
+    highest particle, wall, structure or enclosure temperature."""
+    opts = case.radiation_options()
+    if opts is None:
+        return
+    from gsi.dem.radiation import SIGMA
+    s = case.run.heat_time_scale
+    temps = [p.temperature for p in case.particles]
+    temps += [w.temperature for w in case.walls if w.temperature is not None]
+    for st in case.structures:
+        th = st.thermal
+        if th is not None:
+            temps.append(th.T_initial if th.T_initial is not None else th.T_ref)
+    if opts["T_enclosure"] is not None:
+        temps.append(opts["T_enclosure"])
+    T_max = max(temps)
+    rate = max(3.0 * case.materials[p.material].emissivity
+               / (case.source_smallest_radius(i) * case.materials[p.material].rho
+                  * case.materials[p.material].cp / s)
+               for i, p in enumerate(case.particles))
+    ratio = opts["every"] * dt * 4.0 * SIGMA * T_max ** 3 * rate
+    if ratio > 1.0:
+        raise GsiInputError(
+            f"dem.radiation_every = {opts['every']}: the explicit radiation update is "
+            f"unstable (radiation_every x dt x 4 eps sigma T^3 A/(m c_p) = {ratio:.3g} > 1 "
+            f"at T = {T_max:g} K); use dem.radiation_every <= "
+            f"{max(1, int(opts['every'] / ratio))} or a smaller run.dt")

@@ -1,0 +1,117 @@
+"""The neighbour-list build of the DEM (kernels: :mod:`gsi.dem.neighbour`): slabs, the
+half pair list, triangle and plane candidates, the tangential springs carried over from
+the previous lists by particle id.
+
+How it runs (for speed, see ``benchmarks/settle.py``):
+
+- One engine (:mod:`gsi.dem.engine`) serves every contact model (chosen at run time),
+  compiled once and cached on disk by numba (:mod:`gsi.jit`); the very first run on a
+  machine compiles it in about a minute (2 cores), later runs load it in a second.
+- ``sim.step(n)`` runs the n steps inside one compiled call, returning to Python only
+  to rebuild the neighbour list (any particle moved more than skin/2), to delete lost
+  particles or to insert particles.
+- Threads: numba's (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``); below
+  ``parallel_min_n`` particles one thread is used.  The pair loop is parallel over
+  slabs (at least one cutoff thick, a multiple of 2 x threads) in two colours (no
+  atomics, no per-pair buffers), so each pair's law is evaluated once and Newton's
+  third law holds exactly; each slab is integrated inside the same pass as soon as its
+  forces are complete, so a step has two parallel regions.  Use at most as many
+  threads as free cores: an OpenMP barrier waiting for a descheduled thread costs a
+  whole scheduler time slice per parallel region.
+"""
+import numba
+import numpy as np
+
+from gsi.dem import cells
+from gsi.dem import neighbour as nbr
+from gsi.dem.state import Pairs
+from gsi.dem.storage import rows_of
+
+
+def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n,
+                sort_particles):
+    """New :data:`gsi.dem.state.Pairs` for the particles of ``store`` (a
+    :class:`gsi.dem.storage.ParticleStore`) and the mesh and planes of ``walls`` (a
+    :class:`gsi.dem.wall_registry.Walls`); ``old``: the previous lists and
+    ``ids_at_build`` their particle ids (None: none yet). With ``sort_particles`` the
+    rows are re-ordered into the force pass's visiting order. Updates the plane
+    candidates and the build positions (particles ``x0``, walls ``x0``/``point0``).
+    Returns ``(pairs, ids)``: the lists and the particle ids they were built for."""
+    n = store.n
+    x = store.particle["x"][:n]
+    r = store.particle["radius"][:n]
+    rmax = float(r.max()) if n else 0.0
+    dims, inv_cs = cells.grid_for(lo, hi, 2 * rmax + skin, n)
+    cell_of = np.empty(n, np.int64)
+    cells.cell_index(n, x, lo, inv_cs, dims, cell_of)
+    cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
+    # slabs along the axis where the particles spread over most cells
+    spread = [np.ptp(np.floor((x[:, d] - lo[d]) * inv_cs[d])) if n else 0 for d in range(3)]
+    axis = int(np.argmax(spread))
+    small = n < parallel_min_n
+    threads = 1 if small else numba.get_num_threads()
+    s_lo, s_inv_w, nslab = nbr.slab_layout(
+        x[:, axis], 2 * rmax + skin, threads,
+        min_per_slab=nbr.MIN_SLAB_PARTICLES if small else 1)
+    slab_of, slab_start, slab_list = nbr.slab_sort(n, x, cell_list, axis, s_lo, s_inv_w, nslab)
+    if sort_particles and n:
+        # rows into visiting order: row m is the m-th particle the force pass visits
+        perm = slab_list
+        store.permute(perm)
+        new_of_old = np.empty(n, np.int64)
+        new_of_old[perm] = np.arange(n)
+        cell_of = cell_of[perm]
+        slab_of = slab_of[perm]
+        cell_list = new_of_old[cell_list].astype(cell_list.dtype)
+        slab_list = np.arange(n, dtype=slab_list.dtype)
+    counts = np.empty(n, np.int64)
+    nbr.count_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts)
+    nb_start = np.zeros(n + 1, np.int64)
+    np.cumsum(counts, out=nb_start[1:])
+    npair = int(nb_start[-1])
+    nb_j = np.empty(npair, np.int32)
+    nbr.fill_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_start,
+                   nb_j)
+    hist = np.zeros((npair, 3))
+    pact = np.zeros(npair, np.uint8)
+    # new row -> old row through the ids at the last build
+    ids = store.particle["id"][:n]
+    built = ids_at_build is not None
+    if built and len(ids_at_build):
+        old_of_new = rows_of(ids_at_build, ids)
+        nbr.carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, old.start, old.j,
+                               old.hist, old.active)
+    else:
+        old_of_new = np.full(n, -1, np.int64)
+    mc_start, mc_tri, mc_hist = _triangle_candidates(
+        walls.mesh_state, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new, built)
+    pairs = Pairs(slab_start, slab_list, nb_start, nb_j, hist, pact, mc_start, mc_tri,
+                  mc_hist)
+    pl = walls.plane_state
+    nbr.plane_candidates(x, r, skin, pl.point, pl.normal, store.wall["plane_cand"][:n])
+    pl.point0[:] = pl.point
+    store.particle["x0"][:n] = x
+    return pairs, ids.copy()
+
+
+def _triangle_candidates(M, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new,
+                         built):
+    """Triangle candidates of each particle, their springs carried over from ``old``."""
+    n = len(x)
+    mc_start = np.zeros(n + 1, np.int64)
+    if not len(M.tri):
+        return mc_start, np.zeros(0, np.int32), np.zeros((0, 3))
+    tstart, tlist = nbr.bin_triangles(M.x, M.tri, lo, inv_cs, dims, rmax + skin)
+    dummy = np.zeros(0, np.int32)
+    nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start, dummy,
+                       True)
+    np.cumsum(mc_start[1:], out=mc_start[1:])
+    mc_tri = np.empty(int(mc_start[-1]), np.int32)
+    nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start, mc_tri,
+                       False)
+    mc_hist = np.zeros((len(mc_tri), 3))
+    if built:
+        nbr.carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old.tri_start,
+                              old.tri, old.tri_hist)
+    M.x0[:] = M.x
+    return mc_start, mc_tri, mc_hist

@@ -1,0 +1,290 @@
+"""Per-particle storage of the DEM: the fields of :data:`gsi.dem.state.PARTICLE_FIELDS`
+and :data:`gsi.dem.state.WALL_CONTACT_FIELDS` at a capacity, of which the first ``n``
+rows are particles (:class:`ParticleStore`), and the named views a simulation offers on
+them (:class:`ParticleViews`).
+
+State (for checkpoints, tests and new kernels; :mod:`gsi.dem.state`): five bundles,
+named tuples of numpy arrays that every compiled kernel takes as one argument each:
+
+- ``sim.particles`` (:data:`~gsi.dem.state.Particles`): per-particle arrays (x, v,
+  omega, force, torque, q, radius, mass, inertia, T, mcp_inv, type, fixed, ncontact,
+  x0, id), views of the first n rows;
+- ``sim.wall_contacts`` (:data:`~gsi.dem.state.WallContacts`): per-particle plane
+  springs and the triangle-contact slots;
+- ``sim.pairs`` (:data:`~gsi.dem.state.Pairs`): slabs, the half neighbour list with
+  its tangential springs and contact flags, triangle candidates with their springs;
+- ``sim.plane_state`` (:data:`~gsi.dem.state.Planes`) and ``sim.mesh_state``
+  (:data:`~gsi.dem.state.Mesh`): the walls (read and written by :class:`PlaneWall`
+  and :class:`MeshWall`).
+"""
+import numpy as np
+
+from gsi.dem.state import (PARTICLE_FIELDS, WALL_CONTACT_FIELDS, Particles, WallContacts,
+                           bundle_bytes)
+
+
+class ParticleStore:
+    """Arrays of every per-particle field, grown by doubling.
+
+    ``n_planes`` and ``slots`` size the wall-contact fields whose trailing shape names
+    ``"npl"`` (one spring per plane) or ``"S"`` (the triangle-contact slots)."""
+
+    def __init__(self, capacity: int = 16):
+        self.n = 0
+        self.capacity = 0
+        self.n_planes = 0
+        self.slots = 0
+        self.particle = {}                  # name -> array at capacity (PARTICLE_FIELDS)
+        self.wall = {}                      # name -> array at capacity (WALL_CONTACT_FIELDS)
+        self.overflow = np.zeros(1, np.int64)
+        self.allocate(capacity)
+
+    def _shape(self, cap, trail):
+        return (cap,) + tuple({"npl": self.n_planes, "S": self.slots}.get(t, t) for t in trail)
+
+    def _stores(self):
+        return ((self.particle, PARTICLE_FIELDS), (self.wall, WALL_CONTACT_FIELDS))
+
+    def allocate(self, cap: int) -> None:
+        """Re-allocate every field at capacity ``cap`` (the first n rows kept)."""
+        for store, fields in self._stores():
+            for name, (trail, dtype) in fields.items():
+                arr = np.zeros(self._shape(cap, trail), dtype)
+                old = store.get(name)
+                if old is not None and self.n:
+                    src = old[: self.n]
+                    sl = tuple(slice(0, min(a, b)) for a, b in zip(src.shape, arr.shape))
+                    arr[sl] = src[sl]
+                store[name] = arr
+        self.capacity = cap
+
+    def set_wall_counts(self, *, n_planes=None, slots=None) -> None:
+        """Re-shape the wall-contact fields for ``n_planes`` planes and ``slots`` triangle
+        slots (existing entries kept where they fit)."""
+        self.n_planes = self.n_planes if n_planes is None else n_planes
+        self.slots = self.slots if slots is None else slots
+        for name, (trail, dtype) in WALL_CONTACT_FIELDS.items():
+            arr = np.zeros(self._shape(self.capacity, trail), dtype)
+            if arr.shape == self.wall[name].shape:
+                continue
+            old = self.wall[name]
+            sl = tuple(slice(0, min(a, b)) for a, b in zip(old.shape, arr.shape))
+            arr[sl] = old[sl]
+            self.wall[name] = arr
+
+    def append(self, k: int) -> slice:
+        """Room for ``k`` more particles, every field zero there; returns their rows
+        (the caller sets the fields and then :meth:`commit`)."""
+        if self.n + k > self.capacity:
+            self.allocate(max(2 * self.capacity, self.n + k))
+        s = slice(self.n, self.n + k)
+        for store, _ in self._stores():
+            for arr in store.values():
+                arr[s] = 0
+        return s
+
+    def commit(self, k: int) -> None:
+        """The ``k`` rows of the last :meth:`append` are particles now."""
+        self.n += k
+
+    def add_spheres(self, x, r, *, mtype, rho, cp, v=None, T=None, omega=None, first_id):
+        """Append k spheres (centres ``x`` (k, 3), radii ``r`` (k,), material index
+        ``mtype`` of density ``rho`` and heat capacity ``cp``; ``v``, ``omega``, ``T``
+        default 0) with ids ``first_id``, ...; every other field starts at 0. Returns
+        the ids."""
+        k = len(x)
+        s = self.append(k)
+        a = self.particle
+        a["x"][s] = x
+        a["v"][s] = 0.0 if v is None else np.broadcast_to(np.asarray(v, float), (k, 3))
+        a["omega"][s] = 0.0 if omega is None else np.broadcast_to(np.asarray(omega, float),
+                                                                  (k, 3))
+        a["radius"][s] = r
+        m = rho * 4.0 / 3.0 * np.pi * r ** 3
+        a["mass"][s] = m
+        a["inertia"][s] = 0.4 * m * r * r
+        a["T"][s] = 0.0 if T is None else np.broadcast_to(np.asarray(T, float), (k,))
+        a["mcp_inv"][s] = 1.0 / (m * cp)
+        a["type"][s] = mtype
+        a["x0"][s] = x
+        ids = np.arange(first_id, first_id + k, dtype=np.int64)
+        a["id"][s] = ids
+        self.commit(k)
+        return ids
+
+    def delete(self, mask) -> None:
+        """Remove the rows where ``mask`` (n,) is true (the others keep their order)."""
+        keep = ~mask
+        nk = int(keep.sum())
+        for store, _ in self._stores():
+            for arr in store.values():
+                arr[:nk] = arr[: self.n][keep]
+        self.n = nk
+
+    def permute(self, perm) -> None:
+        """Re-order the rows: new row m is old row ``perm[m]``."""
+        n = self.n
+        for store, _ in self._stores():
+            for arr in store.values():
+                arr[:n] = arr[:n][perm]
+
+    def view(self, name: str):
+        """The first n rows of particle field ``name``."""
+        return self.particle[name][: self.n]
+
+    def particles(self):
+        """:data:`gsi.dem.state.Particles` of views of the first n rows."""
+        return Particles(*[self.particle[k][: self.n] for k in PARTICLE_FIELDS])
+
+    def wall_contacts(self):
+        """:data:`gsi.dem.state.WallContacts` of views of the first n rows."""
+        return WallContacts(*[self.wall[k][: self.n] for k in WALL_CONTACT_FIELDS],
+                            self.overflow)
+
+    def nbytes(self, pairs) -> int:
+        """Bytes of all per-particle storage and of the ``pairs`` bundle."""
+        b = sum(arr.nbytes for store, _ in self._stores() for arr in store.values())
+        return b + bundle_bytes(pairs)
+
+    def state(self) -> dict:
+        """Copies of the first n rows: ``p.<field>``, ``wc.<field>``, ``wc.overflow``."""
+        n = self.n
+        d = {f"p.{k}": self.particle[k][:n].copy() for k in PARTICLE_FIELDS}
+        d.update({f"wc.{k}": self.wall[k][:n].copy() for k in WALL_CONTACT_FIELDS})
+        d["wc.overflow"] = self.overflow.copy()
+        return d
+
+    def set_state(self, d: dict, n: int) -> None:
+        """Restore :meth:`state` of ``n`` particles."""
+        self.n = 0
+        self.allocate(max(16, n))
+        for k in PARTICLE_FIELDS:
+            self.particle[k][:n] = d[f"p.{k}"]
+        for k in WALL_CONTACT_FIELDS:
+            self.wall[k][:n] = d[f"wc.{k}"]
+        self.overflow[:] = d["wc.overflow"]
+        self.n = n
+
+
+class ParticleViews:
+    """Named views of a simulation's particles (``self.store``, a :class:`ParticleStore`)."""
+
+    @property
+    def n(self):
+        """Number of particles."""
+        return self.store.n
+
+    @property
+    def particles(self):
+        """Per-particle state (:data:`gsi.dem.state.Particles`): views of the first n
+        rows of every field of :data:`gsi.dem.state.PARTICLE_FIELDS`."""
+        return self.store.particles()
+
+    @property
+    def wall_contacts(self):
+        """Per-particle wall contacts (:data:`gsi.dem.state.WallContacts`): plane springs
+        and contact flags, the triangle-contact slots; views of the first n rows."""
+        return self.store.wall_contacts()
+
+    @property
+    def heat_capacity(self):
+        """Heat capacity m c_p of each particle (n,) (J/K), a new array."""
+        return 1.0 / self.store.view("mcp_inv")
+
+    @property
+    def x(self):
+        """Positions (n, 3) (m), a view."""
+        return self.store.view("x")
+
+    @property
+    def v(self):
+        """Velocities (n, 3) (m/s), a view."""
+        return self.store.view("v")
+
+    @property
+    def omega(self):
+        """Angular velocities (n, 3) (rad/s), a view."""
+        return self.store.view("omega")
+
+    @property
+    def force(self):
+        """Total force on each particle (n, 3) (N) at the last step, incl. gravity."""
+        return self.store.view("force")
+
+    @property
+    def torque(self):
+        """Total torque on each particle (n, 3) (N m) at the last step."""
+        return self.store.view("torque")
+
+    @property
+    def radius(self):
+        """Radii (n,) (m), a view."""
+        return self.store.view("radius")
+
+    @property
+    def mass(self):
+        """Masses (n,) (kg), a view."""
+        return self.store.view("mass")
+
+    @property
+    def inertia(self):
+        """Moments of inertia (n,) (kg m^2), a view."""
+        return self.store.view("inertia")
+
+    @property
+    def T(self):
+        """Particle temperatures (n,), a view."""
+        return self.store.view("T")
+
+    @property
+    def ids(self):
+        """Particle ids (n,), a view."""
+        return self.store.view("id")
+
+    @property
+    def type(self):
+        """Material index of each particle (n,), a view."""
+        return self.store.view("type")
+
+    @property
+    def ncontact(self):
+        """Contacts per particle at the last step (n,)."""
+        return self.store.view("ncontact")
+
+    def kinetic_energy(self, *, rotational=True):
+        """Kinetic energy (J) of all particles: translation (+ rotation)."""
+        e = 0.5 * float((self.mass * (self.v ** 2).sum(1)).sum())
+        if rotational:
+            e += 0.5 * float((self.inertia * (self.omega ** 2).sum(1)).sum())
+        return e
+
+    def potential_energy(self):
+        """Gravitational potential energy -sum m g.x (J) (zero at the origin)."""
+        return -float((self.mass * (self.x @ self.g)).sum())
+
+    def momentum(self):
+        """Total linear momentum (3,) (kg m/s)."""
+        return (self.mass[:, None] * self.v).sum(0)
+
+    def index(self, ids):
+        """Rows of the given particle ids."""
+        from gsi.errors import GsiInputError
+        ids = np.asarray(ids, np.int64)
+        rows = rows_of(self.ids, ids)
+        if (rows < 0).any():
+            raise GsiInputError(f"particle ids {ids[rows < 0][:5].tolist()}: not present "
+                                "(lost or never added)")
+        return rows
+
+
+def rows_of(ids, wanted):
+    """Rows of ``wanted`` ids in the id array ``ids`` (-1 where absent); ``ids`` are
+    unique, sorted or not."""
+    wanted = np.asarray(wanted, np.int64)
+    if len(ids) == 0:
+        return np.full(len(wanted), -1, np.int64)
+    order = None if np.all(ids[1:] > ids[:-1]) else np.argsort(ids, kind="stable")
+    srt = ids if order is None else ids[order]
+    pos = np.minimum(np.searchsorted(srt, wanted), len(srt) - 1)
+    rows = pos if order is None else order[pos]
+    return np.where(srt[pos] == wanted, rows, -1).astype(np.int64)
