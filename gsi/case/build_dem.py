@@ -24,7 +24,9 @@ def build_simulation(case, *, dt: float):
         pipe_resistance=case.dem.pipe_resistance, gravity=case.dem.gravity, dt=dt,
         skin=case.dem.skin if case.dem.skin is not None else 0.4 * r_min,
         domain=(case.dem.domain_lo, case.dem.domain_hi), force_dt=case.dem.force_dt,
-        pair_overrides=case.pair_overrides(), seed=case.run.seed, dt_checked=True)
+        pair_overrides=case.pair_overrides(), seed=case.run.seed, dt_checked=True,
+        # dem.skin not given: adaptive between 0.4 and 1 x the smallest radius
+        skin_max=r_min if case.dem.skin is None else None)
     radiation = case.radiation_options()
     if radiation is not None:
         sim.set_radiation(**radiation)

@@ -82,7 +82,8 @@ class Dem:
         None, unit="K", check=nonnegative(),
         doc="black enclosure seen by particles with no radiation neighbour (default: none)")
     skin: Optional[float] = param(None, unit="m", check=positive(),
-                                  doc="Verlet skin (default 0.4 x the smallest radius)")
+                                  doc="Verlet skin, fixed (default: adaptive, 0.4 to 1 x the smallest radius, "
+                                      "aiming at 10 steps between list builds)")
     gravity: tuple[float, ...] = param((0.0, 0.0, -9.81), unit="m/s^2", length=3,
                                        doc="gravity vector")
     domain_lo: tuple[float, ...] = param(unit="m", length=3, doc="lower corner of the domain box")

@@ -67,6 +67,7 @@ def capture(sim):
         d.update({f"{prefix}.{k}": np.array(a) for k, a in zip(bundle._fields, bundle)})
     d["ids_at_build"] = np.array(sim.ids_at_build)
     d["scalars"] = np.array([sim.time, sim.dt], np.float64)
+    d["list_skin"] = np.array([sim.list_skin], np.float64)
     d["counters"] = np.array([sim.n, sim.step_count, sim.n_lost, sim.next_id,
                               sim.n_rebuilds, sim.n_planes, sim.store.slots,
                               len(sim.inserters)], np.int64)
@@ -105,6 +106,8 @@ def restore(sim, d):
             a[...] = d[f"{prefix}.{k}"]
     sim.ids_at_build = np.array(d["ids_at_build"], np.int64)
     sim.time = float(d["scalars"][0])
+    # the skin of the restored lists (checkpoints before the adaptive skin: the fixed one)
+    sim.list_skin = float(d["list_skin"][0]) if "list_skin" in d else sim.skin
     sim.step_count, sim.n_lost, sim.next_id = step_count, n_lost, next_id
     sim.n_rebuilds = n_rebuilds
     sim.flags.set_values(bool(v) for v in d["flags"])

@@ -229,7 +229,11 @@ def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
 @pjit
 def tri_candidates(n, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt,
                    mc_start, mc_tri, count_only):
-    """Triangles closer than R_i + skin to particle i (count, or fill ``mc_tri``)."""
+    """Triangles closer than R_i + skin to particle i (count, or fill ``mc_tri``).
+
+    A triangle whose plane is already that far from the centre is rejected before its
+    closest point is sought (the bins hold many such: a cell lists every triangle
+    within half a cell diagonal plus the reach of its centre)."""
     for i in prange(n):
         c = cell_of[i]
         rc = radius[i] + skin
@@ -241,6 +245,20 @@ def tri_candidates(n, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, m
             a = mt[t, 0]
             b = mt[t, 1]
             c_ = mt[t, 2]
+            # plane test: ((x - a).N)^2 >= rc^2 |N|^2, N = (b - a) x (c - a)
+            ux = mv_x[b, 0] - mv_x[a, 0]
+            uy = mv_x[b, 1] - mv_x[a, 1]
+            uz = mv_x[b, 2] - mv_x[a, 2]
+            vx = mv_x[c_, 0] - mv_x[a, 0]
+            vy = mv_x[c_, 1] - mv_x[a, 1]
+            vz = mv_x[c_, 2] - mv_x[a, 2]
+            Nx = uy * vz - uz * vy
+            Ny = uz * vx - ux * vz
+            Nz = ux * vy - uy * vx
+            h = ((x[i, 0] - mv_x[a, 0]) * Nx + (x[i, 1] - mv_x[a, 1]) * Ny
+                 + (x[i, 2] - mv_x[a, 2]) * Nz)
+            if h * h >= rc2 * (Nx * Nx + Ny * Ny + Nz * Nz):
+                continue
             qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
                 x[i, 0], x[i, 1], x[i, 2], mv_x[a, 0], mv_x[a, 1], mv_x[a, 2],
                 mv_x[b, 0], mv_x[b, 1], mv_x[b, 2], mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2])

@@ -54,7 +54,7 @@ from gsi.dem.engine import get_engine
 from gsi.dem import contact_log as clog
 from gsi.dem import checks
 from gsi.dem.checkpoint_state import capture, restore
-from gsi.dem.lists import build_lists
+from gsi.dem.lists import TriangleBins, build_lists
 from gsi.dem.log_control import ContactLogControl
 from gsi.dem.state import MAX_WALL_SLOTS, empty_pairs
 from gsi.dem.step_codes import StepCode, StepFlags, blow_up, lost_particles
@@ -121,7 +121,7 @@ class Simulation(ParticleViews):
                  pipe_length=None, pipe_resistance=0.0, k_n=None, gravity=(0.0, 0.0, -9.81),
                  dt, skin, domain, force_dt=False, v_max=100.0, lost="delete",
                  pair_overrides=None, seed=None, parallel_min_n=2000, sort_particles=False,
-                 dt_checked=False):
+                 dt_checked=False, skin_max=None):
         lo, hi = checks.check_options(materials, dt, skin, contact, k_n, heat, h_c, pipe_length,
                                       pipe_resistance, lost, domain)
         self.materials = dict(materials)
@@ -132,6 +132,10 @@ class Simulation(ParticleViews):
         self.k_n, self.h_c = k_n, h_c
         self.g = vec3(gravity, "gravity")
         self.dt, self.skin = float(dt), float(skin)
+        # the skin of the current lists: between skin and skin_max, chosen at each build
+        # (next_skin); skin_max None: the skin is fixed
+        self.skin_max = self.skin if skin_max is None else max(float(skin_max), self.skin)
+        self.list_skin = self.skin
         self.lo, self.hi = lo, hi
         self.force_dt, self.v_max, self.lost = force_dt, float(v_max), lost
         overrides = checks.pair_override_indices(pair_overrides, self._mat_index)
@@ -148,6 +152,7 @@ class Simulation(ParticleViews):
         self.next_id = 0                # the id the next particle gets
         self.store = ParticleStore(16)
         self.walls = Walls(self.store)
+        self.tri_bins = TriangleBins()      # triangle bins kept between list builds
         self.pairs = empty_pairs(0)
         self.inserters = []
         self.n_rebuilds = 0
@@ -304,7 +309,7 @@ class Simulation(ParticleViews):
         structure's interval boundary would perturb every contact in the DEM). The moved
         wall enters the next step's force pass: a lag of one DEM step, the staggered
         scheme's own."""
-        if self.walls.moved_beyond(0.5 * self.skin):
+        if self.walls.moved_beyond(0.5 * self.list_skin):
             self.flags.need_rebuild = True
 
     # ------------------------------------------------------------------ inserters
@@ -361,13 +366,34 @@ class Simulation(ParticleViews):
     def rebuild_lists(self):
         """Build the neighbour lists now (the step loop does it when a particle or a wall
         vertex moved more than half the skin); the tangential springs carry over."""
+        self.list_skin = self.next_skin()
         self.pairs, self.ids_at_build = build_lists(
             self.store, self.walls, self.pairs, self.ids_at_build if self.flags.built else None,
-            lo=self.lo, hi=self.hi, skin=self.skin, parallel_min_n=self.parallel_min_n,
-            sort_particles=self.sort_particles)
+            lo=self.lo, hi=self.hi, skin=self.list_skin, parallel_min_n=self.parallel_min_n,
+            sort_particles=self.sort_particles, tri_bins=self.tri_bins)
         self.flags.built = True
         self.flags.need_rebuild = False
         self.n_rebuilds += 1
+
+    #: steps between list builds that the adaptive skin aims at (:meth:`next_skin`)
+    STEPS_PER_BUILD = 10
+
+    def next_skin(self):
+        """The skin of the next lists (m): ``skin`` if fixed, else enough for the fastest
+        particle or wall to take :data:`STEPS_PER_BUILD` steps before it has moved half
+        the skin, 2 N v_max dt, within [skin, skin_max].  A larger skin lists more
+        candidate pairs; a smaller one rebuilds more often (a fast, sparse flow: every
+        2-3 steps at 0.4 R).  The lists stay correct either way: a rebuild falls due when
+        anything moved half the skin of the current lists."""
+        if self.skin_max <= self.skin:
+            return self.skin
+        v2 = 0.0
+        for a in (self.store.particle["v"][:self.n], self.plane_state.velocity,
+                  self.mesh_state.v):
+            if len(a):
+                v2 = max(v2, float(np.max(np.einsum("ij,ij->i", a, a))))
+        want = 2.0 * self.STEPS_PER_BUILD * np.sqrt(v2) * self.dt
+        return float(min(self.skin_max, max(self.skin, want)))
 
     # ------------------------------------------------------------------ stepping
     def _prepare(self):
@@ -393,7 +419,6 @@ class Simulation(ParticleViews):
 
     def _step(self, n):
         remaining = int(n)
-        half_skin2 = (0.5 * self.skin) ** 2
         vmax2 = self.v_max ** 2
         skip = False
         while remaining > 0:
@@ -414,6 +439,7 @@ class Simulation(ParticleViews):
             if self.radiation is not None:     # applied at T_n over its interval
                 chunk = min(chunk, self.radiation.step_due())
             self.log.state.ctrl[clog.C_STEP] = self.step_count
+            half_skin2 = (0.5 * self.list_skin) ** 2
             done, code, info = self.engine.advance(chunk, skip, self.dt, self.g, half_skin2,
                                                    vmax2, self.lo, self.hi, *self.bundles(),
                                                    self.table, self.log.state)
