@@ -54,15 +54,13 @@ from gsi.dem.engine import get_engine
 from gsi.dem import contact_log as clog
 from gsi.dem import checks
 from gsi.dem.checkpoint_state import capture, restore
-from gsi.dem.lists import TriangleBins, build_lists
+from gsi.dem.lists import TriangleBins, adaptive_skin, build_lists
 from gsi.dem.log_control import ContactLogControl
 from gsi.dem.state import MAX_WALL_SLOTS, empty_pairs
 from gsi.dem.step_codes import StepCode, StepFlags, blow_up, lost_particles
 from gsi.dem.storage import ParticleStore, ParticleViews
 from gsi.dem.wall_registry import Walls
 from gsi.dem.walls import MeshWall, vec3
-
-
 
 
 class Simulation(ParticleViews):
@@ -132,8 +130,7 @@ class Simulation(ParticleViews):
         self.k_n, self.h_c = k_n, h_c
         self.g = vec3(gravity, "gravity")
         self.dt, self.skin = float(dt), float(skin)
-        # the skin of the current lists: between skin and skin_max, chosen at each build
-        # (next_skin); skin_max None: the skin is fixed
+        # skin of the current lists, in [skin, skin_max] (None: fixed): lists.adaptive_skin
         self.skin_max = self.skin if skin_max is None else max(float(skin_max), self.skin)
         self.list_skin = self.skin
         self.lo, self.hi = lo, hi
@@ -366,7 +363,8 @@ class Simulation(ParticleViews):
     def rebuild_lists(self):
         """Build the neighbour lists now (the step loop does it when a particle or a wall
         vertex moved more than half the skin); the tangential springs carry over."""
-        self.list_skin = self.next_skin()
+        self.list_skin = adaptive_skin(self.skin, self.skin_max, self.dt, self.v,
+                                       self.plane_state.velocity, self.mesh_state.v)
         self.pairs, self.ids_at_build = build_lists(
             self.store, self.walls, self.pairs, self.ids_at_build if self.flags.built else None,
             lo=self.lo, hi=self.hi, skin=self.list_skin, parallel_min_n=self.parallel_min_n,
@@ -374,26 +372,6 @@ class Simulation(ParticleViews):
         self.flags.built = True
         self.flags.need_rebuild = False
         self.n_rebuilds += 1
-
-    #: steps between list builds that the adaptive skin aims at (:meth:`next_skin`)
-    STEPS_PER_BUILD = 10
-
-    def next_skin(self):
-        """The skin of the next lists (m): ``skin`` if fixed, else enough for the fastest
-        particle or wall to take :data:`STEPS_PER_BUILD` steps before it has moved half
-        the skin, 2 N v_max dt, within [skin, skin_max].  A larger skin lists more
-        candidate pairs; a smaller one rebuilds more often (a fast, sparse flow: every
-        2-3 steps at 0.4 R).  The lists stay correct either way: a rebuild falls due when
-        anything moved half the skin of the current lists."""
-        if self.skin_max <= self.skin:
-            return self.skin
-        v2 = 0.0
-        for a in (self.store.particle["v"][:self.n], self.plane_state.velocity,
-                  self.mesh_state.v):
-            if len(a):
-                v2 = max(v2, float(np.max(np.einsum("ij,ij->i", a, a))))
-        want = 2.0 * self.STEPS_PER_BUILD * np.sqrt(v2) * self.dt
-        return float(min(self.skin_max, max(self.skin, want)))
 
     # ------------------------------------------------------------------ stepping
     def _prepare(self):
