@@ -37,8 +37,8 @@ import numpy as np
 
 from gsi.jit import njit, pjit, prange, uint
 from gsi.dem.contact.lanes import CH, NB, A2, RI, RJ, DTEMP, Q
-from gsi.dem.contact.model import (evaluate_heat, model_ids, M_HEAT, M_LOG, NORMAL, ROLLING,
-                                   HEAT)
+from gsi.dem.contact.model import (evaluate_heat, model_ids, M_HEAT, M_LOG, M_ROLLING,
+                                   NORMAL, ROLLING, HEAT)
 from gsi.dem.contact_geometry import spheres_touch, wall_radius2, plane_distance
 from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
@@ -68,6 +68,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     M = Mesh(*Mt)
     wc = WallContacts(*wct)
     heat_on = model[M_HEAT] != 0
+    roll_on = model[M_ROLLING] != 0
     # pair batch: lanes, lane -> pair row, partner, table row; batch rows and their lanes
     B = np.zeros(NB * CH)     # zeros: see gsi.dem.contact.model.evaluate
     lk = np.empty(CH, np.uint64)
@@ -97,7 +98,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
                 n = uint(0)
                 nrow = 0
             k1 = min(k_end, k0 + (uint(CH) - n))
-            n = gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n)
+            n = gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_on)
             brow[nrow] = i
             nrow += 1
             blane[nrow] = n

@@ -14,19 +14,20 @@ from gsi.dem.contact.lanes import (
     NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IEFF, WX, WY, WZ, A2, RI, RJ, DTEMP,
     HX, HY, HZ, FX, FY, FZ, MX, MY, MZ, Q, AI, AJ, MI, MJ, II, IJ, WIX, WIY, WIZ, TIX, TIY,
     TIZ, TJX, TJY, TJZ)
-from gsi.dem.contact.model import evaluate
+from gsi.dem.contact.model import evaluate, M_ROLLING
 from gsi.dem.contact_geometry import spheres_touch
 
 
 @njit(_nrt=False)
-def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n):
+def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_on):
     """Candidates k0..k1-1 of particle i into the batch from lane ``n`` on.
 
     The contact test (``pairs.active``; the spring of a contact that ended restarts), the
     touching pairs compacted without a branch (every candidate is written at lane n,
     which advances only for a touching one: about half of a dense bed's candidates
     touch, at random, a coin flip for a branch), then the inputs of the new lanes
-    gathered.  Returns the next free lane; the caller leaves room for all candidates."""
+    gathered (inertias only for a rolling model, temperatures only for a heat model).
+    Returns the next free lane; the caller leaves room for all candidates."""
     x = P.x
     v = P.v
     w = P.omega
@@ -66,8 +67,9 @@ def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n):
         B[RJ + l] = P.radius[j]
         B[MI + l] = mi
         B[MJ + l] = P.mass[j]
-        B[II + l] = Ii
-        B[IJ + l] = P.inertia[j]
+        if roll_on:
+            B[II + l] = Ii
+            B[IJ + l] = P.inertia[j]
         B[VX + l] = v[i, 0] - v[j, 0]
         B[VY + l] = v[i, 1] - v[j, 1]
         B[VZ + l] = v[i, 2] - v[j, 2]
@@ -77,7 +79,8 @@ def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n):
         B[WX + l] = w[j, 0]
         B[WY + l] = w[j, 1]
         B[WZ + l] = w[j, 2]
-        B[DTEMP + l] = P.T[j] - Ti
+        if heat_on:
+            B[DTEMP + l] = P.T[j] - Ti
         B[HX + l] = hist[k, 0]
         B[HY + l] = hist[k, 1]
         B[HZ + l] = hist[k, 2]
@@ -92,8 +95,9 @@ def pair_geometry(n, B):
     (in ``VX..VZ``), omega_i (``WIX..``), omega_j (in ``WX..``).  Out: the unit normal n
     from i to j, the overlap delta = R_i + R_j - L, the lever arms a_i = R_i - delta/2,
     a_j = R_j - delta/2, the velocity of i relative to j at the contact point
-    v_i + omega_i x (a_i n) - v_j - omega_j x (-a_j n), R*, m*, I*, omega_i - omega_j and
-    the squared contact radius a^2 = R_i^2 - ((R_i^2 - R_j^2 + L^2)/(2L))^2."""
+    v_i + omega_i x (a_i n) - v_j - omega_j x (-a_j n), R*, m* and omega_i - omega_j
+    (I* and a^2 only where a sub-model needs them: :func:`pair_inertia`,
+    :func:`pair_contact_radius`)."""
     for l in range(uint(0), uint(n)):
         dx = B[NX + l]
         dy = B[NY + l]
@@ -134,10 +138,26 @@ def pair_geometry(n, B):
         mi = B[MI + l]
         mj = B[MJ + l]
         B[MEFF + l] = mi * mj / (mi + mj)
+
+
+@njit(_nrt=False)
+def pair_inertia(n, B):
+    """I* = I_i I_j/(I_i + I_j) of lanes 0..n-1 (for the rolling model)."""
+    for l in range(uint(0), uint(n)):
         Ii = B[II + l]
         Ij = B[IJ + l]
         B[IEFF + l] = Ii * Ij / (Ii + Ij)
-        s = (ri * ri - rj * rj + L2) * 0.5 * inv_L
+
+
+@njit(_nrt=False)
+def pair_contact_radius(n, B):
+    """The squared contact radius a^2 = R_i^2 - ((R_i^2 - R_j^2 + L^2)/(2L))^2 of lanes
+    0..n-1, L = R_i + R_j - delta (for the heat model; docs/design.md "Contact geometry")."""
+    for l in range(uint(0), uint(n)):
+        ri = B[RI + l]
+        rj = B[RJ + l]
+        L = (ri + rj) - B[DELTA + l]
+        s = (ri * ri - rj * rj + L * L) * 0.5 / L
         B[A2 + l] = ri * ri - s * s
 
 
@@ -183,6 +203,10 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
     """The contact model over the batch's ``n`` pair lanes, then each of its ``nrow`` rows:
     its pairs added to both particles (Newton's third law), the springs stored."""
     pair_geometry(n, B)
+    if model[M_ROLLING] != 0:
+        pair_inertia(n, B)
+    if heat_on:
+        pair_contact_radius(n, B)
     evaluate_runs(n, B, lrow, tab, dt, model)
     pair_torques(n, B)
     f = P.force
