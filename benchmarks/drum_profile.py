@@ -52,7 +52,7 @@ def force_pass_seconds(sim, mode, *, mesh=True, calls=10, batches=20):
     import numpy as np
 
     def call(k):
-        P, pairs, pl, M, wc = sim._bundles()
+        P, pairs, pl, M, wc = sim.bundles()
         if not mesh:
             pairs = pairs._replace(tri_start=np.zeros_like(pairs.tri_start))
             wc = wc._replace(count=np.zeros_like(wc.count))
@@ -72,10 +72,10 @@ def advance_seconds(sim, *, calls=10, batches=20):
     done = [0]
 
     def call(k):
-        P, pairs, pl, M, wc = sim._bundles()
+        P, pairs, pl, M, wc = sim.bundles()
         d, _, _ = sim.engine.advance(k, False, sim.dt, sim.g, (0.5 * sim.skin) ** 2,
                                      sim.v_max ** 2, sim.lo, sim.hi, P, pairs, pl, M, wc,
-                                     sim.table, sim._log)
+                                     sim.table, sim.log.state)
         done[0] = d
         if d < k:
             raise RuntimeError("a rebuild fell due inside the timed steps; use fewer")
@@ -128,7 +128,7 @@ def main(argv=None):
         t_rb = float("inf")
         for _ in range(2):
             t = time.perf_counter()
-            sim._rebuild()
+            sim.rebuild_lists()
             t_rb = min(t_rb, time.perf_counter() - t)
         t_pairs = force_pass_seconds(sim, 0, mesh=False)
         t_full = force_pass_seconds(sim, 0)
