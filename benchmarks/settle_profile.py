@@ -90,7 +90,7 @@ def main():
     def cf(mode, planes=True, k=steps):
         """time k calls of contact_forces (s per call)"""
         if new:
-            P, pairs, pl, M, wc = sim._bundles()
+            P, pairs, pl, M, wc = sim.bundles()
             if not planes:
                 from gsi.dem.state import empty_planes
                 pl = empty_planes()
@@ -150,8 +150,8 @@ def main():
     for rep in range(7):
         t0 = CLK(); sim.step(steps // 7); t_step = min(t_step, (CLK() - t0) / (steps // 7))
     nrb = sim.n_rebuilds - rb
-    t0 = CLK(); sim._rebuild(); t_rb = CLK() - t0
-    t0 = CLK(); sim._rebuild(); t_rb = min(t_rb, CLK() - t0)
+    t0 = CLK(); sim.rebuild_lists(); t_rb = CLK() - t0
+    t0 = CLK(); sim.rebuild_lists(); t_rb = min(t_rb, CLK() - t0)
     xsave = sim.x.copy(); vsave = sim.v.copy()
     sim.step(1)
     t_pairs = cf(0, planes=False)

@@ -72,7 +72,7 @@ def run_one(kx, ky, state, warm, steps, min_seconds, sort=True):
     build = []
     for _ in range(2):
         t0 = time.perf_counter()
-        sim._rebuild()
+        sim.rebuild_lists()
         build.append(time.perf_counter() - t0)
     rb = sim.n_rebuilds
     blocks = []                       # seconds of each block of ``steps`` steps
