@@ -165,7 +165,6 @@ class Simulation(ParticleViews):
         return (self.particles, self.pairs, self.plane_state, self.mesh_state,
                 self.wall_contacts)
 
-    _bundles = bundles      # the name the engine's tests and benchmarks use (ENGINE)
 
     @property
     def plane_state(self):
