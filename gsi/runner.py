@@ -100,6 +100,20 @@ class RunInterrupted(Exception):
         return 128 + self.signum
 
 
+def _engine_is_cold(sim) -> bool:
+    """True when the DEM engine module of ``sim`` has no numba cache newer than its source
+    (its first step will compile it: ~1 min on 2 cores; see gsi.dem.engine_factory)."""
+    f = getattr(getattr(sim, "engine", None), "__file__", None)
+    if not f:
+        return False
+    src = pathlib.Path(f)
+    index = list((src.parent / "__pycache__").glob(f"{src.stem}.advance-*.nbi"))
+    try:
+        return not index or max(i.stat().st_mtime for i in index) < src.stat().st_mtime
+    except OSError:
+        return False
+
+
 def build_simulation(case, *, dt: float):
     """The DEM of a case: materials, walls (with their motions at t = 0) and particles.
 
@@ -522,6 +536,9 @@ class Runner:
                          f"{self.out / 'checkpoints'}")
             self._ckpt_step, self._ckpt_wall = k, time.perf_counter()
             self._catch_signals()
+            if self.is_root and _engine_is_cold(self.sim):
+                self.say("DEM engine: compiling on first use (about a minute on 2 cores; "
+                         "cached for the next runs)")
             while k < self.n_total:
                 nxt = min([self.n_total] + [(k // e + 1) * e for e in self.every.values()]
                           + [j for j in self.motion_events if j > k]
@@ -762,8 +779,10 @@ class Runner:
         series = {}
         for name, rec in monitors.items():
             for c, v in rec.items():
-                if c != "time_s" and len(v) > 1:
-                    label, _, unit = c.rpartition("_")
+                # no panel for a column without a finite value (a structure without heat
+                # has no T_mean)
+                if c != "time_s" and len(v) > 1 and np.isfinite(np.asarray(v, float)).any():
+                    label, _, unit = c.rpartition("_") if "_" in c else (c, "", "")
                     series[f"{name}: {label}"] = (rec["time_s"], v, unit)
         if series:
             import matplotlib
@@ -775,7 +794,7 @@ class Runner:
             for ax, key in zip(axes[:, 0], keys):
                 t, v, unit = series[key]
                 ax.plot(t, v, lw=1.4)
-                ax.set_ylabel(f"{key}\n({unit})", fontsize=8)
+                ax.set_ylabel(f"{key}\n({unit})" if unit else key, fontsize=8)
                 ax.grid(alpha=0.3)
             axes[-1, 0].set_xlabel("time (s)")
             axes[0, 0].set_title(f"{self.case.case.name}: monitors")
