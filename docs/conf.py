@@ -39,6 +39,10 @@ html_static_path = ["_static"]
 if pathlib.Path("/usr/share/javascript/mathjax/MathJax.js").exists():
     mathjax_path = "mathjax/MathJax.js?config=TeX-AMS_CHTML"
     html_static_path.append("_generated/_mathjax")
+    myst_update_mathjax = False          # its settings are MathJax 3's
+    mathjax2_config = {"tex2jax": {"inlineMath": [["\\(", "\\)"]],
+                                   "displayMath": [["\\[", "\\]"]],
+                                   "processEscapes": True, "processEnvironments": True}}
 
 autodoc_default_options = {"members": True, "undoc-members": False, "show-inheritance": False}
 autodoc_member_order = "bysource"
@@ -47,6 +51,7 @@ autodoc_mock_imports = []               # nothing is mocked: every import is ins
 napoleon_numpy_docstring = True
 napoleon_google_docstring = False
 napoleon_use_ivar = True           # "Attributes" as fields: no duplicate attribute entries
+napoleon_use_param = False         # parameters as one field (a typed :param: list trips docutils on gsi.dem.Simulation)
 autosummary_generate = False
 suppress_warnings = ["myst.header"]
 nitpicky = False

@@ -304,6 +304,8 @@ _LITERAL = re.compile(r"(``.*?``)")
 def escape_bars(app, what, name, obj, options, lines) -> None:
     """Docstrings write absolute values as |x|, which reStructuredText reads as a
     substitution: escape a bar outside literals, except in table rows."""
+    if lines and lines[-1].strip():
+        lines.append("")           # a field list must end with a blank line
     for i, line in enumerate(lines):
         if "|" not in line or line.lstrip().startswith(("|", "+")):
             continue
@@ -311,7 +313,24 @@ def escape_bars(app, what, name, obj, options, lines) -> None:
         lines[i] = "".join(p if p.startswith("``") else p.replace("|", "\\|") for p in parts)
 
 
+def fix_furo_css(app, exception) -> None:
+    """Debian's furo (dfsg) imports normalize.css from /javascript/ (where Debian's web
+    server would serve libjs-normalize.css): copy it into the site and import it from
+    there, so the site works wherever it is served."""
+    if exception is not None or app.builder.format != "html":
+        return
+    css = pathlib.Path(app.outdir) / "_static" / "styles" / "furo.css"
+    src = pathlib.Path("/usr/share/javascript/normalize.css/normalize.css")
+    if not css.exists() or "/javascript/normalize.css/" not in css.read_text():
+        return
+    if src.exists():
+        _copy(src, css.parent / "normalize.css")
+        css.write_text(css.read_text().replace("url(/javascript/normalize.css/normalize.css)",
+                                               "url(normalize.css)"))
+
+
 def setup(app):
     generate()            # before Sphinx lists the source files
+    app.connect("build-finished", fix_furo_css)
     app.connect("autodoc-process-docstring", escape_bars)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
