@@ -52,10 +52,12 @@ gallery: setup
 test-slow: setup
 	$(MPIENV) $(PY) -m pytest -q -ra -m slow tests
 
+# Each benchmark's last key=value line is appended, with date, host CPU and command, to
+# benchmarks/results/<name>.json (benchmarks/record.py); the docs' Performance page shows them.
 bench: setup
 	EXTRA_DEBS=liggghts bash .ci/setup.sh
-	$(MPIENV) $(PY) benchmarks/settle.py --vs-liggghts
-	$(MPIENV) $(PY) benchmarks/fe_step.py
+	$(MPIENV) $(PY) benchmarks/record.py settle -- $(PY) benchmarks/settle.py --vs-liggghts
+	$(MPIENV) $(PY) benchmarks/record.py fe_step -- $(PY) benchmarks/fe_step.py
 
 clean:
 	rm -rf out .pytest_cache docs/_build docs/_generated

@@ -164,6 +164,10 @@ def performance_page() -> str:
                 out += [f"Figures: {fig}", ""]
             if r.get("notes"):
                 out += [r["notes"], ""]
+        if data.get("readme_text"):
+            out += ["<details><summary>The former README's text on this benchmark "
+                    "(verbatim)</summary>", "", "````text", data["readme_text"], "````", "",
+                    "</details>", ""]
     return "\n".join(out)
 
 
