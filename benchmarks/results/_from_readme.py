@@ -28,7 +28,7 @@ row = {stem: n for n, stem in [(838,'settle'),(839,'drum_profile'),(840,'fe_step
         (842,'settle_profile'),(843,'silo_radiation_share'),(844,'drum_extrapolation'),(845,'thesis_drums'),
         (846,'pairing'),(847,'engine_ab'),(848,'settle_scale'),(849,'fe_scale'),(850,'coupled_large')]}
 def tab(stem):
-    c = cells(row[stem]); return c[0].strip('`'), c[1], c[2]
+    c = cells(row[stem]); return c[0].strip('`').replace('\\|', '|'), c[1], c[2]
 
 s, w, t = tab('settle')
 add('settle', 'settle: gsi DEM against LIGGGHTS', s, w, [

@@ -142,7 +142,9 @@ def validation_page() -> str:
 
 # ---------------------------------------------------------------- performance
 def performance_page() -> str:
-    files = sorted((ROOT / "benchmarks" / "results").glob("*.json"))
+    first = ["settle", "settle_scale", "fe_scale", "coupled_large", "make_test", "engine_compile"]
+    files = sorted((ROOT / "benchmarks" / "results").glob("*.json"),
+                   key=lambda f: (first.index(f.stem) if f.stem in first else len(first), f.stem))
     out = ["Measured figures of the benchmarks under `benchmarks/`, rendered from the "
            "machine-readable records in `benchmarks/results/*.json` (one file per benchmark; "
            "each record: date, host, command, figures, notes). Wall times depend on the "

@@ -24,8 +24,8 @@ import sys
 
 import numpy as np
 
-from gsi.case import (Case, CaseInfo, Dem, Material, Monitor, Motion, Output, ParticleSource,
-                      Region, Run, Size, Structure, Wall)
+from gsi.case import (Case, CaseInfo, Dem, Material, Monitor, Motion, Output, Pair,
+                      ParticleSource, Region, Run, Size, Structure, Wall)
 from gsi.case.structure import Contact
 from gsi.case.walls import MotionEvent
 
@@ -38,6 +38,7 @@ HERE = pathlib.Path(__file__).resolve().parent
 
 glass = Material(E=5.0e6, nu=0.3, rho=2500.0, e=0.5, mu=0.5)
 steel = Material(E=2.1e11, nu=0.3, rho=7850.0, e=0.5, mu=0.3)
+beads_on_steel = Pair(materials=["glass", "steel"], e=0.5, mu=0.3)   # Janssen's mu_w
 
 beads = ParticleSource(
     name="beads", material="glass", fill="lattice", count=2000,
@@ -74,7 +75,7 @@ case = Case(
     run=Run(duration=1.5, seed=1),
     dem=Dem(contact="hertz", gravity=(0.0, 0.0, -9.81),
             domain_lo=(-0.08, -0.08, -0.12), domain_hi=(0.08, 0.08, 0.17)),
-    materials={"glass": glass, "steel": steel}, particles=[beads], walls=[hopper, gate],
+    materials={"glass": glass, "steel": steel}, pairs=[beads_on_steel], particles=[beads], walls=[hopper, gate],
     structures=[silo], monitors=monitors,
     output=Output(interval=0.05, color_by="speed", picture_every=2),
     quick={"run": {"duration": 0.9}, "particles": [{"count": 1500}]})
@@ -82,10 +83,11 @@ case.base_dir = HERE          # silo.geo is found beside this script
 
 # ## Janssen against the run
 #
-# Just before the gate opens (0.6 s) the bed rests in the silo. From the monitors: the
-# bed's top $h$ (`bed.csv`), its mass (count × bead mass) and the wall's vertical load
-# (`silo.csv`, `load_z_N`: the force of the beads on the wall). The bulk density follows
-# from the mass in the hopper cone and the cylinder, $\rho_b = M/(V_\text{cone} + A h)$.
+# Two moments: the bed at rest before the gate opens (0.55 s), and the bed sliding down
+# the wall while the silo discharges (0.75 s). From the monitors: the bed's top $h$
+# (`bed.csv`), its mass (count × bead mass) and the wall's vertical load (`silo.csv`,
+# `load_z_N`: the force of the beads on the wall). The bulk density follows from the
+# mass in the hopper cone and the cylinder, $\rho_b = M/(V_\text{cone} + A h)$.
 
 
 def janssen_wall_load(rho_b, D, h, mu_w, K, g=9.81):
@@ -125,4 +127,5 @@ if __name__ == "__main__":
     result = demo_main(case, description="Your own silo")
     args = sys.argv[1:]
     out = args[args.index("--out") + 1] if "--out" in args else pathlib.Path("out") / "silo"
-    compare(out)
+    for t in (0.55, 0.75):
+        compare(out, t=t)
