@@ -41,6 +41,7 @@ docs-check: $(if $(SETUP_DONE),,setup)
 GALLERY ?= pour hopper_membrane thermal_silo drum belt_hopper two_structures \
            thermal_silo_radiation plate_on_block drum_extrapolation kiln
 gallery: setup
+	@mkdir -p $(DOCS_OUT)/gallery
 	@for d in $(GALLERY); do \
 	  echo "gallery: $$d --quick"; \
 	  $(MPIENV) $(PY) -m gsi.cli run demos/$$d.toml --quick --overwrite \

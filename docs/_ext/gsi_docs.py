@@ -266,7 +266,10 @@ def gallery_pages() -> dict[str, str]:
            "every demo's `--quick` form into `docs/_build/gallery/` (up to two minutes each on "
            "two cores) and the next `make docs` shows their monitor plots and summaries "
            "beside the source; `make docs` alone does not run the demos, so that it stays fast "
-           "enough for every CI run. " +
+           "enough for every CI run. The literate scripts are rendered by a small converter "
+           "(`docs/_ext/gsi_docs.py`: comment lines become prose, the rest code cells) rather "
+           "than by sphinx-gallery, whose Debian 12 version (0.10) expects its own "
+           "`plot_*.py` cell format. " +
            (f"This build includes the quick runs of: {', '.join(ran)}." if ran else
             "This build includes no quick runs."), "",
            "```{toctree}", ":maxdepth: 1", "", *[f"_generated/{p[:-3]}" for p in pages], "```", ""]
