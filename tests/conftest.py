@@ -39,15 +39,15 @@ def _number(x):
     """JSON-safe numbers (numpy scalars, tuples, nan, inf)."""
     if isinstance(x, (list, tuple)):
         return [_number(v) for v in x]
-    if isinstance(x, str) or x is None:
+    if isinstance(x, (str, bool)) or x is None:
+        return x
+    if isinstance(x, int):
         return x
     try:
         f = float(x)
     except (TypeError, ValueError):
         return str(x)
-    if math.isfinite(f):
-        return int(f) if isinstance(x, (int, bool)) and not isinstance(x, bool) else f
-    return str(f)
+    return f if math.isfinite(f) else str(f)
 
 
 @pytest.fixture
@@ -117,7 +117,11 @@ def pytest_sessionfinish(session, exitstatus):
     stamp = {"date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
              "host": _host(), "commit": _commit()}
     new = {(r["test"], r["name"]): {**r, **stamp} for r in _RECORDS}
-    merged = [r for r in old if (r.get("test"), r.get("name")) not in new] + list(new.values())
+    # keep earlier sessions' records (a partial run updates its own) unless their test
+    # file is gone
+    kept = [r for r in old if (r.get("test"), r.get("name")) not in new
+            and (_ROOT / r.get("test", "").split("::")[0]).exists()]
+    merged = kept + list(new.values())
     merged.sort(key=lambda r: (r["test"], r["name"]))
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp")
