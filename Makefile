@@ -23,7 +23,8 @@ test: setup
 
 # The documentation (Debian's python3-sphinx, python3-myst-parser, furo; see .ci/setup.sh):
 # warnings are errors. The key reference, validation, performance and gallery pages are
-# generated at build time (docs/_ext/gsi_docs.py). The system python runs Sphinx; conf.py
+# generated at build time (docs/_ext/gsi_docs.py). The system python runs Sphinx (the venv's pyvista
+# pulls markdown-it-py 4 from PyPI, which Debian's myst-parser 0.18 refuses); conf.py
 # puts this checkout first on sys.path, so autodoc imports this gsi.
 docs: $(if $(SETUP_DONE),,setup)
 	@start=$$(date +%s); \
