@@ -44,3 +44,25 @@ def test_design_sections_cited_by_docstrings_exist():
                  "Thermo-elastic", "Coupling", "Balance", "Validation cases",
                  "Long-time heat extrapolation"):
         assert name in headings, name
+
+
+def _check_site():
+    spec = importlib.util.spec_from_file_location("check_site", DOCS / "check_site.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_site_check_finds_broken_links_images_and_anchors(tmp_path):
+    site = tmp_path / "html"
+    (site / "sub").mkdir(parents=True)
+    (site / "pic.png").write_bytes(b"\x89PNG")
+    (site / "index.html").write_text(
+        '<a href="sub/page.html#here">ok</a><img src="pic.png"><a href="https://x.org/">ext</a>'
+        '<a href="missing.html">broken</a><img src="gone.png"><a href="sub/page.html#nope">x</a>')
+    (site / "sub" / "page.html").write_text('<h1 id="here">t</h1><a href="../index.html">up</a>')
+    problems = _check_site().check_links(site)
+    assert len(problems) == 3, problems
+    assert any("missing.html" in p for p in problems)
+    assert any("gone.png" in p for p in problems)
+    assert any("'nope'" in p for p in problems)
