@@ -66,3 +66,37 @@ def test_site_check_finds_broken_links_images_and_anchors(tmp_path):
     assert any("missing.html" in p for p in problems)
     assert any("gone.png" in p for p in problems)
     assert any("'nope'" in p for p in problems)
+
+
+def _gsi_docs():
+    spec = importlib.util.spec_from_file_location("gsi_docs", DOCS / "_ext" / "gsi_docs.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_key_reference_is_what_gsi_check_keys_prints():
+    from gsi.case import Case
+    from gsi.config.schema import describe
+    page = _gsi_docs().keys_page()
+    for line in describe(Case):
+        assert line in page
+
+
+def test_validation_page_says_when_results_are_missing(tmp_path, monkeypatch):
+    mod = _gsi_docs()
+    monkeypatch.setattr(mod, "ROOT", tmp_path)
+    assert "No results file" in mod.validation_page()
+    (tmp_path / "tests" / "validation").mkdir(parents=True)
+    (tmp_path / "tests" / "validation" / "results.json").write_text(
+        '{"records": [{"name": "restitution", "test": "tests/validation/t.py::a", '
+        '"reference": 0.5, "measured": 0.4999, "tolerance": 0.01, "kind": "rel", '
+        '"outcome": "passed", "date": "d", "host": "h", "commit": "c"}]}')
+    page = mod.validation_page()
+    assert "| restitution | 0.5 | 0.4999 | -2.00e-04 (rel.) | 0.01 (rel) | passed |" in page
+
+
+def test_literate_demo_becomes_prose_and_code():
+    md = _gsi_docs().literate_to_markdown("# # Title\n#\n# Some prose.\n\nx = 1\n\n# ## Step\ny = 2\n")
+    assert md.split("\n")[:3] == ["# Title", "", "Some prose."]
+    assert "```python\nx = 1\n```" in md and "## Step" in md and "```python\ny = 2\n```" in md
