@@ -100,3 +100,28 @@ def test_literate_demo_becomes_prose_and_code():
     md = _gsi_docs().literate_to_markdown("# # Title\n#\n# Some prose.\n\nx = 1\n\n# ## Step\ny = 2\n")
     assert md.split("\n")[:3] == ["# Title", "", "Some prose."]
     assert "```python\nx = 1\n```" in md and "## Step" in md and "```python\ny = 2\n```" in md
+
+
+def test_benchmark_record_appends_the_last_key_value_line(tmp_path, monkeypatch):
+    spec = importlib.util.spec_from_file_location("record", ROOT / "benchmarks" / "record.py")
+    rec = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rec)
+    assert rec.parse_last_line("warming up\nn=3 rate=1.5e7 solver=direct\n(done)\n") == \
+        {"n": 3, "rate": 1.5e7, "solver": "direct"}
+    monkeypatch.setattr(rec, "RESULTS", tmp_path)
+    import sys
+    code = rec.main(["demo", "--", sys.executable, "-c", "print('x'); print('a=1 b=2.5')"])
+    assert code == 0
+    import json
+    data = json.loads((tmp_path / "demo.json").read_text())
+    assert data["records"][-1]["figures"] == {"a": 1, "b": 2.5}
+    assert data["records"][-1]["date"] and data["records"][-1]["host"]
+
+
+def test_benchmark_results_are_well_formed():
+    import json
+    for f in (ROOT / "benchmarks" / "results").glob("*.json"):
+        data = json.loads(f.read_text())
+        assert data["records"], f
+        for r in data["records"]:
+            assert {"date", "host", "command", "figures"} <= set(r), f
