@@ -1,4 +1,4 @@
-"""Benchmark "settle": gsi DEM vs LIGGGHTS on /work/shared/bench/settle.liggghts.in.
+"""Benchmark "settle": gsi DEM vs LIGGGHTS on benchmarks/liggghts/settle.liggghts.in.
 
 19,773 spheres (d = 2 mm, rho = 2500 kg/m^3) on a simple-cubic lattice (spacing 2.1 mm,
 the lattice points i*2.1 mm inside x, y in [0.001, 0.083], z in [0.001, 0.0283] m, as
@@ -15,8 +15,8 @@ Usage::
     python benchmarks/settle.py [--threads N] [--vs-liggghts] [--settle-steps S] [--timed-steps T]
 
 Prints the throughput (particle steps per second), memory per particle, bed height and
-kinetic energy; with --vs-liggghts the same from LIGGGHTS (timing from the shared runner
-script, unchanged; bed height and KE from a copy of the input with extra thermo output),
+kinetic energy; with --vs-liggghts the same from LIGGGHTS (timing from the runner
+script benchmarks/liggghts/run_liggghts_settle.sh, unchanged; bed height and KE from a copy of the input with extra thermo output),
 and as the last line key=value pairs ending with ``ratio`` = gsi rate / LIGGGHTS rate.
 """
 import argparse
@@ -27,10 +27,9 @@ import sys
 import tempfile
 import time
 
-#: the LIGGGHTS reference (input + runner), beside the project: ../shared/bench
+#: the LIGGGHTS reference (input + runner), in the repository: benchmarks/liggghts
 BENCH = os.environ.get("GSI_BENCH_DIR",
-                       os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
-                                    "shared", "bench"))
+                       os.path.join(os.path.dirname(os.path.abspath(__file__)), "liggghts"))
 
 
 def lattice_positions(seed=15485863):

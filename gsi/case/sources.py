@@ -172,6 +172,8 @@ class ParticleSource:
     file: Optional[str] = param(None, doc="CSV or VTU of positions and radii, relative to the case")
     velocity: Vec3 = param((0.0, 0.0, 0.0), unit="m/s", length=3, doc="initial velocity")
     temperature: float = param(293.15, unit="K", check=positive(), doc="initial temperature")
+    fixed: bool = param(False, doc="hold the particles in place (they still feel forces and "
+                                   "exchange heat); their overlaps among themselves are allowed")
 
     def validate(self, path: str = "particles") -> None:
         """Keys match the fill; raise a one-line GsiInputError naming the key."""
@@ -194,6 +196,9 @@ class ParticleSource:
             if getattr(self, key) is None:
                 raise GsiInputError(f"{p}{key}: missing; fill = '{self.fill}' needs "
                                     f"{', '.join(need)}")
+        if self.fixed and self.fill == "stream":
+            raise GsiInputError(f"{p}fixed: a stream's particles cannot be fixed (use fill = "
+                                "'file' or 'lattice' for particles held in place)")
         if self.fill == "random" and (self.count is None) == (self.volume_fraction is None):
             raise GsiInputError(f"{p}count: give exactly one of count or volume_fraction for a "
                                 "random fill")
@@ -251,7 +256,10 @@ class ParticleSource:
             self._refuse_overlap(sim, data["x"], data["radius"], f"{p}file = '{self.file}'")
             v = data["v"] if data["v"] is not None else np.asarray(self.velocity, float)
             T = data["T"] if data["T"] is not None else self.temperature
-            return sim.add_particles(data["x"], data["radius"], material=self.material, v=v, T=T)
+            ids = sim.add_particles(data["x"], data["radius"], material=self.material, v=v, T=T)
+            if self.fixed:
+                sim.fix(ids)
+            return ids
         dist = self.size.distribution()
         if self.fill == "stream":
             return sim.add_inserter(self.region.shape, self.rate, radius=dist,
@@ -279,8 +287,11 @@ class ParticleSource:
                 raise GsiInputError(f"{p}{'count' if self.count else 'volume_fraction'}: "
                                     f"{exc}") from None
         v = np.broadcast_to(np.asarray(self.velocity, float), (len(x), 3))
-        return sim.add_particles(x, r, material=self.material, v=v,
-                                 T=np.full(len(x), self.temperature))
+        ids = sim.add_particles(x, r, material=self.material, v=v,
+                                T=np.full(len(x), self.temperature))
+        if self.fixed:
+            sim.fix(ids)
+        return ids
 
     def lattice_sites(self, path: str = "particles") -> np.ndarray:
         """Centres (k, 3) (m) of a lattice fill: the lowest ``count`` (or

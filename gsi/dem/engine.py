@@ -365,6 +365,16 @@ class Engine:
         return heat_conductance_sum(P, pairs, pl, M, wc, table, self.model)
 
 
+def is_cached():
+    """Whether numba's cache holds the compiled engine (else its first step compiles it,
+    about a minute on 2 cores; see :mod:`gsi.jit` for where the cache lives)."""
+    import glob
+    import os
+    import numba
+    return bool(glob.glob(os.path.join(numba.config.CACHE_DIR, "**", "engine.advance-*.nbi"),
+                          recursive=True))
+
+
 def get_engine(contact="hertz", rolling=False, heat=None, log=False):
     """The engine for a contact law, rolling law and heat model (by registry name), with
     or without the contact log: the one compiled engine bound to these sub-models.

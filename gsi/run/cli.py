@@ -54,6 +54,8 @@ def info() -> str:
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="gsi", description="granular-structure interaction toolkit")
     p.add_argument("--version", action="version", version=f"gsi {gsi.__version__}")
+    p.add_argument("-v", "--verbose", action="count", default=0,
+                   help="show the libraries' log lines (FFCx's JIT builds, ...); -vv: debug")
     sub = p.add_subparsers(dest="command")
     sub.add_parser("info", help="versions of gsi and its stack")
     c = sub.add_parser("check", help="validate a case file without running it")
@@ -61,6 +63,8 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--keys", action="store_true", help="list every key with unit and default")
     r = sub.add_parser("run", help="run a case file")
     r.add_argument("case", help="CASE.toml")
+    r.add_argument("-v", "--verbose", action="count", default=0, dest="verbose_run",
+                   help="show the libraries' log lines (FFCx's JIT builds, ...); -vv: debug")
     r.add_argument("--out", default=None, help="output directory (default out/<case name>)")
     r.add_argument("--quick", action="store_true", help="the case's [quick] form (short)")
     r.add_argument("--no-pictures", action="store_true", help="skip PNG pictures")
@@ -79,6 +83,25 @@ def _one_line(exc) -> str:
     return " ".join(str(exc).split())
 
 
+def _library_logs(verbose: int) -> None:
+    """Library log lines on stderr only with ``-v`` (INFO) or ``-vv`` (DEBUG).
+
+    FFCx calls ``logging.basicConfig()`` at import and its JIT (cffi, distutils) lowers
+    the root logger to INFO, which printed one ``INFO:root:building 'libffcx_...'`` line
+    per compiled form; the level is set on the handler, which they do not touch."""
+    import logging
+    level = logging.DEBUG if verbose > 1 else logging.INFO if verbose else logging.WARNING
+    root = logging.getLogger()
+    plain = [h for h in root.handlers if type(h) is logging.StreamHandler]
+    if not root.handlers:
+        handler = logging.StreamHandler()
+        handler.setFormatter(logging.Formatter(logging.BASIC_FORMAT))
+        root.addHandler(handler)
+        plain = [handler]
+    for h in plain:
+        h.setLevel(level)
+
+
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
     """Warnings as one line ``warning: ...`` on stderr (no source line)."""
     print(f"warning: {_one_line(message)}", file=sys.stderr if file is None else file)
@@ -87,6 +110,7 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 def main(argv: list[str] | None = None) -> int:
     import warnings
     args = _parser().parse_args(argv)
+    _library_logs(args.verbose + getattr(args, "verbose_run", 0))
     with warnings.catch_warnings():      # restores the caller's filters and showwarning
         warnings.simplefilter("ignore", DeprecationWarning)   # libraries' notes to developers
         warnings.showwarning = _show_warning

@@ -61,8 +61,10 @@ def monitor_plot(out: pathlib.Path, name: str, monitors: dict) -> list:
     series = {}
     for mname, rec in monitors.items():
         for c, v in rec.items():
-            if c != "time_s" and len(v) > 1:
-                label, _, unit = c.rpartition("_")
+            # no panel for a column without a finite value (a structure without heat
+            # has no T_mean)
+            if c != "time_s" and len(v) > 1 and np.isfinite(np.asarray(v, float)).any():
+                label, _, unit = c.rpartition("_") if "_" in c else (c, "", "")
                 series[f"{mname}: {label}"] = (rec["time_s"], v, unit)
     if not series:
         return []
@@ -75,7 +77,7 @@ def monitor_plot(out: pathlib.Path, name: str, monitors: dict) -> list:
     for ax, key in zip(axes[:, 0], keys):
         t, v, unit = series[key]
         ax.plot(t, v, lw=1.4)
-        ax.set_ylabel(f"{key}\n({unit})", fontsize=8)
+        ax.set_ylabel(f"{key}\n({unit})" if unit else key, fontsize=8)
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("time (s)")
     axes[0, 0].set_title(f"{name}: monitors")

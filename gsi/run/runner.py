@@ -52,6 +52,7 @@ import numpy as np
 
 from gsi.errors import GsiInputError, GsiRunError
 from gsi.case.build_dem import build_simulation
+from gsi.dem.engine import is_cached as engine_is_cached
 from gsi.run.checkpoints import Checkpointer
 from gsi.run.outdir import output_dir
 from gsi.run.outputs import Outputs
@@ -242,6 +243,9 @@ class Runner:
         case, ckpt = self.case, self.checkpoints
         ckpt.start(k)
         ckpt.catch_signals()
+        if self.is_root and not engine_is_cached():
+            self.say("DEM engine: compiling on first use (about a minute on 2 cores; "
+                     "cached for the next runs)")
         while k < self.n_total:
             nxt = min([self.n_total] + [(k // e + 1) * e for e in self.every.values()]
                       + [j for j in self.motion_events if j > k]

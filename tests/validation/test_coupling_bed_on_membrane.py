@@ -20,6 +20,8 @@ import pytest
 
 from gsi.studies.bed_on_membrane import bed_on_membrane
 
+D = "docs/design.md"  # where the references are written down
+
 
 @pytest.fixture(scope="module")
 def bed():
@@ -31,9 +33,14 @@ def test_bed_is_at_rest(bed):
     assert bed["kinetic_energy"] < 1e-8
 
 
-def test_support_reactions_carry_the_weight(bed):
+def test_support_reactions_carry_the_weight(bed, record_validation):
     W = bed["weight"]
     R = bed["reaction"]
+    record_validation("bed at rest on the membrane: support reaction = weight", reference=W,
+                      measured=R[2], tolerance=1e-2, unit="N", source=f'{D}, "Validation cases" 8')
+    record_validation("bed at rest on the membrane: interface load = weight", reference=W,
+                      measured=-bed["load"][2], tolerance=1e-2, unit="N",
+                      source=f'{D}, "Validation cases" 8')
     assert R[2] == pytest.approx(W, rel=1e-2)
     assert np.hypot(R[0], R[1]) < 1e-2 * W
     # the time-averaged interface load of the last step is the weight too
@@ -45,10 +52,13 @@ def test_deflection_matches_static_solve_under_the_same_loads(bed):
     assert bed["u_diff_rel"] < 1e-2
 
 
-def test_nodal_loads_balance_wall_force_invariant_of_the_transfer(bed):
+def test_nodal_loads_balance_wall_force_invariant_of_the_transfer(bed, record_validation):
     rec = bed["records"]
     loaded = np.abs(rec["wall_force_z"]) > 0
     assert loaded.sum() > 0.9 * len(loaded)
+    record_validation("bed on the membrane: nodal loads vs wall force, largest relative misbalance",
+                      reference=0.0, measured=float(rec["balance_rel"].max()), tolerance=1e-12,
+                      kind="abs", source=f'{D}, "Balance"')
     assert rec["balance_rel"].max() < 1e-12
     # and by components, directly from the record
     for c in "xyz":

@@ -14,6 +14,8 @@ import pytest
 
 from gsi.dem import Box, Material, Simulation, random_fill
 
+D = "docs/design.md"  # where the references are written down
+
 
 L = 8e-3
 E_MOD, NU = 5e6, 0.3
@@ -56,7 +58,7 @@ def _box_sim(gravity, e=1.0, mu=0.0, **kw):
 
 
 @pytest.mark.parametrize("gravity", [(0, 0, 0), (0, 0, -9.81)], ids=["no_gravity", "gravity"])
-def test_energy_constant_elastic_frictionless(gravity):
+def test_energy_constant_elastic_frictionless(gravity, record_validation):
     sim = _box_sim(gravity)
     E0 = total_energy(sim)
     contacts = 0
@@ -64,6 +66,9 @@ def test_energy_constant_elastic_frictionless(gravity):
         sim.step(500)
         contacts += sim.contact_count()
     E1 = total_energy(sim)
+    record_validation(f"energy drift, e = 1, mu = 0 ({'gravity' if gravity[2] else 'no gravity'})",
+                      reference=E0, measured=E1, tolerance=1e-4, unit="J",
+                      source=f'{D}, "Validation cases" 2')
     assert contacts > 0                       # collisions did happen
     assert sim.n_rebuilds > 5
     assert abs(E1 - E0) / E0 < 1e-4

@@ -17,6 +17,8 @@ import pytest
 from gsi.dem import Material, Simulation
 from gsi.dem.materials import beta_of_e
 
+D = "docs/design.md"  # where the references are written down
+
 R = 1e-3
 RHO = 2500.0
 E, NU = 5e6, 0.3
@@ -71,18 +73,33 @@ def impact(e, *, law, wall, dt):
 @pytest.mark.parametrize("wall", [True, False], ids=["wall", "pair"])
 @pytest.mark.parametrize("e", [0.3, 0.5, 0.8])
 @pytest.mark.parametrize("law", ["hertz", "linear"])
-def test_restitution_equals_e(law, wall, e):
+def test_restitution_equals_e(law, wall, e, record_validation):
     t_c = _hertz_tc_dmax(wall)[0] if law == "hertz" else _linear_tc(wall, e)
     e_out, duration, _ = impact(e, law=law, wall=wall, dt=t_c / 1000)
+    what = f"{law} impact, {'sphere on wall' if wall else 'sphere on sphere'}"
+    record_validation(f"{what}: restitution (e = {e})", reference=e, measured=e_out,
+                      tolerance=1e-2, source=f'{D}, "Validation cases" 1')
+    if law == "linear":
+        record_validation(f"{what}: contact duration (e = {e})", reference=t_c,
+                          measured=duration, tolerance=1e-2, unit="s",
+                          source="t_c = pi/(omega_n sqrt(1 - beta^2))")
     assert e_out == pytest.approx(e, rel=1e-2)
     if law == "linear":
         assert duration == pytest.approx(t_c, rel=1e-2)
 
 
 @pytest.mark.parametrize("wall", [True, False], ids=["wall", "pair"])
-def test_hertz_elastic_duration_and_peak_overlap(wall):
+def test_hertz_elastic_duration_and_peak_overlap(wall, record_validation):
     t_c, d_max = _hertz_tc_dmax(wall)
     e_out, duration, d_peak = impact(1.0, law="hertz", wall=wall, dt=t_c / 1000)
+    what = f"Hertz impact (e = 1), {'sphere on wall' if wall else 'sphere on sphere'}"
+    src = "Hertz theory (Johnson, Contact Mechanics, 11.1)"
+    record_validation(f"{what}: restitution", reference=1.0, measured=e_out, tolerance=1e-6,
+                      source=src)
+    record_validation(f"{what}: contact duration t_c", reference=t_c, measured=duration,
+                      tolerance=1e-2, unit="s", source=src)
+    record_validation(f"{what}: peak overlap", reference=d_max, measured=d_peak,
+                      tolerance=1e-2, unit="m", source=src)
     assert e_out == pytest.approx(1.0, rel=1e-6)
     assert duration == pytest.approx(t_c, rel=1e-2)
     assert d_peak == pytest.approx(d_max, rel=1e-2)

@@ -12,6 +12,8 @@ import pytest
 
 from gsi.dem import Material, Simulation
 
+D = "docs/design.md"  # where the references are written down
+
 R, RHO, E, NU, G = 1e-3, 2500.0, 5e6, 0.3, 9.81
 
 
@@ -38,15 +40,22 @@ def roll(theta_deg, mu, t_end=0.08):
     return a, sim
 
 
-def test_rolling_without_slip():
+def test_rolling_without_slip(record_validation):
     a, sim = roll(20.0, 0.5)
+    record_validation("incline 20 deg, rolling without slip: acceleration",
+                      reference=5 / 7 * G * math.sin(math.radians(20)), measured=a,
+                      tolerance=1e-2, unit="m/s^2", source=f'{D}, "Validation cases" 3: 5/7 g sin(theta)')
     assert a == pytest.approx(5 / 7 * G * math.sin(math.radians(20)), rel=1e-2)
     # no slip: the contact point is at rest, v_x = omega_y R
     assert sim.omega[0, 1] * R == pytest.approx(sim.v[0, 0], rel=1e-2)
 
 
-def test_sliding():
+def test_sliding(record_validation):
     th = math.radians(30)
     a, sim = roll(30.0, 0.1)
+    record_validation("incline 30 deg, mu 0.1, sliding: acceleration",
+                      reference=G * (math.sin(th) - 0.1 * math.cos(th)), measured=a,
+                      tolerance=1e-2, unit="m/s^2",
+                      source=f'{D}, "Validation cases" 3: g (sin(theta) - mu cos(theta))')
     assert a == pytest.approx(G * (math.sin(th) - 0.1 * math.cos(th)), rel=1e-2)
     assert sim.omega[0, 1] * R < 0.9 * sim.v[0, 0]     # it slips

@@ -12,10 +12,12 @@ import pytest
 
 from gsi.dem import Material, Simulation
 
+D = "docs/design.md"  # where the references are written down
+
 R, G = 1e-3, 9.81
 
 
-def test_cdt_deceleration_and_stop():
+def test_cdt_deceleration_and_stop(record_validation):
     mu_r, v0 = 0.1, 0.05
     mat = {"m": Material(E=5e6, nu=0.3, rho=2500, e=0.5, mu=0.5, mu_r=mu_r)}
     sim = Simulation(mat, rolling=True, gravity=(0, 0, -G), dt=2e-6, skin=2e-4,
@@ -32,6 +34,9 @@ def test_cdt_deceleration_and_stop():
         t.append(sim.time)
         vx.append(sim.v[0, 0])
     a = np.polyfit(t, vx, 1)[0]
+    record_validation("rolling resistance (constant directional torque): deceleration",
+                      reference=-5 / 7 * mu_r * G, measured=a, tolerance=1e-2, unit="m/s^2",
+                      source="-5/7 mu_r g")
     assert a == pytest.approx(-5 / 7 * mu_r * G, rel=1e-2)
     sim.step(30000)                    # t = 0.11 s > v0/|a| = 0.073 s
     assert abs(sim.v[0, 0]) < 1e-3 * v0

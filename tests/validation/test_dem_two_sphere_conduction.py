@@ -14,6 +14,8 @@ import pytest
 
 from gsi.dem import Material, Simulation
 
+D = "docs/design.md"  # where the references are written down
+
 R = 1e-3
 # copper heat properties; a soft E (particles are held fixed) keeps dt = 1 us below 0.3 t_R
 COPPER = Material(E=1e9, nu=0.34, rho=8960, e=0.5, mu=0.3, k=400.0, cp=385.0)
@@ -26,7 +28,7 @@ def _H(model, a2, k=400.0, h_c=0.2):
 
 
 @pytest.mark.parametrize("model", ["area"])
-def test_two_spheres_relax_to_mean(model):
+def test_two_spheres_relax_to_mean(model, record_validation):
     dt = 1e-6
     sim = Simulation({"cu": COPPER}, heat=model, h_c=0.2, gravity=(0, 0, 0), dt=dt,
                      skin=1e-4, domain=((-0.01,) * 3, (0.01,) * 3))
@@ -42,6 +44,9 @@ def test_two_spheres_relax_to_mean(model):
     for n in (10000, 30000, 60000):
         sim.step(n - sim.step_count)
         dT = sim.T[0] - sim.T[1]
+        record_validation(f"two spheres at fixed overlap ({model}): T1 - T2 after {n} steps",
+                          reference=100 * (1 - x) ** n, measured=dT, tolerance=1e-9, unit="K",
+                          source=f'{D}, "Validation cases" 4: discrete (1 - 2H dt/mc)^n')
         assert dT == pytest.approx(100 * (1 - x) ** n, rel=1e-9)
         exact = 100 * math.exp(-x * n)
         assert abs(dT - exact) <= exact * (n * x * x / 2 * 1.01) + 1e-12

@@ -59,10 +59,13 @@ def test_triangle_in_tetrahedron_area():
 
 
 @pytest.mark.parametrize("h_a,h_b", [(0.05, 0.05), (0.05, 0.034), (0.1, 0.05)])
-def test_flat_overlap_area_is_exact_on_any_meshes(h_a, h_b):
+def test_flat_overlap_area_is_exact_on_any_meshes(h_a, h_b, record_validation):
     _, _, c = pair(h_a, h_b, 1.0)
     assert c.S_tar == pytest.approx(0.01, rel=1e-12)
     assert c.S_con == pytest.approx(0.01, rel=1e-12)
+    record_validation(f"FE-FE contact area of two overlapping boxes (h {h_a} / {h_b} m)",
+                      reference=0.01, measured=c.area, tolerance=1e-12, unit="m^2",
+                      source="the FDEM paper's §3: S_c of a flat overlap")
     assert c.area == pytest.approx(0.01, rel=1e-12)
     assert c.total_conductance == pytest.approx(0.01 / 1e-6, rel=1e-12)
 
@@ -114,7 +117,7 @@ def test_two_bars_with_a_perfect_contact_equal_the_single_bar():
 
 @pytest.mark.parametrize("h_b", [0.05, 0.034])
 @pytest.mark.parametrize("R_c", [0.5, 0.05])
-def test_steady_jump_is_q_times_Rc(R_c, h_b):
+def test_steady_jump_is_q_times_Rc(R_c, h_b, record_validation):
     """T = 1 on A's far end, 0 on B's: q = 1/(0.5/k + R_c + 0.5/k), jump q R_c.
 
     The heat flow is q S to 2.5e-5 (measured 1.1e-5); the profiles are linear to 1e-3 of
@@ -132,6 +135,12 @@ def test_steady_jump_is_q_times_Rc(R_c, h_b):
     assert np.allclose(ha.T.x.array, 1.0 - q * xa / MAT.k, atol=1e-3, rtol=0)
     assert np.allclose(hb.T.x.array, q * (0.5 - xb) / MAT.k, atol=1e-3, rtol=0)
     jump = ha.T.x.array[np.isclose(xa, 0.5)].mean() - hb.T.x.array[np.isclose(xb, 0.0)].mean()
+    src = "q = 1/(L_A/k + R_c + L_B/k), jump q R_c (the FDEM paper's contact)"
+    record_validation(f"steady contact (R_c = {R_c}, h_B = {h_b} m): temperature jump",
+                      reference=q * R_c, measured=jump, tolerance=2e-3, unit="K", source=src)
+    record_validation(f"steady contact (R_c = {R_c}, h_B = {h_b} m): heat flow",
+                      reference=q * 0.01, measured=c.heat_flow(), tolerance=2.5e-5, unit="W",
+                      source=src)
     assert jump == pytest.approx(q * R_c, rel=2e-3)
     assert c.heat_flow() == pytest.approx(q * 0.01, rel=2.5e-5)
     assert hb.dirichlet_heat_flow("x1") == pytest.approx(-q * 0.01, rel=2.5e-5)

@@ -100,9 +100,12 @@ def errors():
 
 
 @pytest.mark.parametrize("theta", [0.0, 0.5, 1.0])
-def test_slab_profiles_at_10_50_100_s(errors, theta):
+def test_slab_profiles_at_10_50_100_s(errors, theta, record_validation):
     coarse, fine = errors[0.1, theta], errors[0.05, theta]
     print(f"theta {theta}: h = 0.1 m {np.round(coarse, 5)}, h = 0.05 m {np.round(fine, 5)}")
+    record_validation(f"FDEM paper's slab (theta = {theta}, h = 0.05 m): max error / jump at 10, 50, 100 s",
+                      reference=0.0, measured=float(max(fine)), tolerance=0.01, kind="abs",
+                      source="Fourier series, lambda_n = (n - 1/2) pi / L (the FDEM paper's slab)")
     assert max(fine) <= 0.01                               # the target at h = 0.05 m
     for c, f in zip(coarse, fine):                          # falling with h at each time
         assert f < 0.5 * c                                  # O(h^2): measured 2.9-3.6 x

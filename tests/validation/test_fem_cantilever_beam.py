@@ -12,8 +12,10 @@ from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 
+D = "docs/design.md"  # where the references are written down
 
-def test_cantilever_tip_deflection_p2():
+
+def test_cantilever_tip_deflection_p2(record_validation):
     L, b, E, nu, P = 1.0, 0.1, 200e9, 0.3, 1000.0
     sm = meshes.build("box", length_x=L, length_y=b, length_z=b, n=(20, 2, 2))
     p = Elasticity(sm, StructuralMaterial(E=E, nu=nu, rho=7800.0), degree=2)
@@ -25,6 +27,9 @@ def test_cantilever_tip_deflection_p2():
     w = -p.u.x.array.reshape(-1, 3)[tip, 2].mean()
     I, A, G = b**4 / 12, b**2, E / (2 * (1 + nu))
     w_timoshenko = P * L**3 / (3 * E * I) + P * L / (5 / 6 * G * A)
+    record_validation("cantilever (P2): tip deflection", reference=w_timoshenko, measured=w,
+                      tolerance=0.02, unit="m",
+                      source=f'{D}, "Validation cases" 6b: Timoshenko beam')
     assert w == pytest.approx(w_timoshenko, rel=0.02)
     # the clamp carries the load: vertical reaction = +P
     assert p.reaction("x0")[2] == pytest.approx(P, rel=1e-9)

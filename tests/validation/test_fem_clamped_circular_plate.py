@@ -15,8 +15,10 @@ from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 from gsi.fem.surface import ContactSurface
 
+D = "docs/design.md"  # where the references are written down
 
-def test_clamped_circular_plate_centre_deflection():
+
+def test_clamped_circular_plate_centre_deflection(record_validation):
     a, t, E, nu, q = 0.5, 0.02, 200e9, 0.3, 1e4
     sm = meshes.build("membrane", shape="circle", radius=a, thickness=t, h=a / 10, n_thickness=2)
     p = Elasticity(sm, StructuralMaterial(E=E, nu=nu, rho=7800.0), degree=2)
@@ -27,6 +29,9 @@ def test_clamped_circular_plate_centre_deflection():
     D = E * t**3 / (12 * (1 - nu**2))
     G, kappa = E / (2 * (1 + nu)), 5.0 / 6.0
     w_mindlin = q * a**4 / (64 * D) + q * a**2 / (4 * kappa * G * t)
+    record_validation("clamped circular plate (P2): centre deflection", reference=w_mindlin,
+                      measured=w, tolerance=0.03, unit="m",
+                      source=f'{D}, "Validation cases" 6b: Mindlin plate')
     assert w == pytest.approx(w_mindlin, rel=0.03)
     # the rim carries the pressure resultant q x (meshed) area of the loaded face
     area = ContactSurface(elasticity=p).area()

@@ -46,12 +46,21 @@ def _period(t, u):
 
 
 @pytest.mark.parametrize("scheme", ["newmark", "generalized_alpha"])
-def test_suddenly_loaded_bar(scheme):
+def test_suddenly_loaded_bar(scheme, record_validation):
     p, t, u, energy, T1 = _run(scheme)
     mean = np.trapz(u, t) / t[-1]
+    periods = _period(t, u)
+    src = "step load on an undamped bar: mean = static, peak = 2 x static, period T_1"
+    record_validation(f"suddenly loaded bar ({scheme}): mean / static", reference=1.0,
+                      measured=mean, tolerance=3e-3, kind="abs", source=src)
+    record_validation(f"suddenly loaded bar ({scheme}): peak / static", reference=2.0,
+                      measured=u.max(), tolerance=3e-2, source=src)
+    if periods.size:
+        record_validation(f"suddenly loaded bar ({scheme}): period", reference=T1,
+                          measured=[float(x) for x in periods], tolerance=1e-2, unit="s",
+                          source=src)
     assert mean == pytest.approx(1.0, abs=3e-3)
     assert u.max() == pytest.approx(2.0, rel=3e-2)
-    periods = _period(t, u)
     assert periods.size >= 1
     assert periods == pytest.approx(T1, rel=1e-2)
     assert p.n_factorizations == 1

@@ -12,9 +12,11 @@ from gsi import meshes
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import StructuralMaterial
 
+D = "docs/design.md"  # where the references are written down
+
 
 @pytest.mark.parametrize("degree", [1, 2])
-def test_uniform_traction_patch_is_exact(degree):
+def test_uniform_traction_patch_is_exact(degree, record_validation):
     E, nu, s = 70e9, 0.33, 2.5e6
     sm = meshes.build("box", length_x=2.0, length_y=1.0, length_z=0.5, n=(4, 3, 2))
     p = Elasticity(sm, StructuralMaterial(E=E, nu=nu, rho=2700.0), degree=degree)
@@ -26,6 +28,9 @@ def test_uniform_traction_patch_is_exact(degree):
     x = p.V.tabulate_dof_coordinates()
     U = p.u.x.array.reshape(-1, 3)
     exact = np.c_[s * x[:, 0] / E, -nu * s * x[:, 1] / E, -nu * s * x[:, 2] / E]
+    record_validation(f"patch test P{degree}: max displacement error / max displacement",
+                      reference=0.0, measured=float(np.abs(U - exact).max() / np.abs(exact).max()),
+                      tolerance=1e-10, kind="abs", source=f'{D}, "Validation cases" 6a')
     assert np.abs(U - exact).max() <= 1e-10 * np.abs(exact).max()
     # stress is uniaxial s: von Mises = s in every cell
     vm = p.von_mises().x.array

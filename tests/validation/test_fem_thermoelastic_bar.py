@@ -17,6 +17,8 @@ from gsi.fem.elasticity import Elasticity
 from gsi.fem.materials import MATERIALS
 from gsi.fem.thermoelastic import ThermoElastic
 
+D = "docs/design.md"  # where the references are written down
+
 STEEL = MATERIALS["steel"]
 L, B, DT, T_REF = 1.0, 0.1, 150.0, 20.0
 
@@ -32,7 +34,7 @@ def _stress_components(p):
     return S.x.array.reshape(-1, 3)
 
 
-def test_free_bar_expands_without_stress():
+def test_free_bar_expands_without_stress(record_validation):
     p = Elasticity(_bar(), STEEL, T_ref=T_REF)
     p.clamp("x0", components=[0])
     p.clamp("y0", components=[1])
@@ -43,12 +45,15 @@ def test_free_bar_expands_without_stress():
     U = p.u.x.array.reshape(-1, 3)
     eps = STEEL.alpha * DT
     assert np.abs(U - eps * x).max() <= 1e-10 * eps * L
+    record_validation("free thermo-elastic bar: elongation alpha dT L", reference=eps * L,
+                      measured=U[:, 0].max(), tolerance=1e-10, unit="m",
+                      source=f'{D}, "Validation cases" 7')
     assert U[:, 0].max() == pytest.approx(eps * L, rel=1e-10)
     E_a = STEEL.E * eps
     assert np.abs(_stress_components(p)).max() <= 1e-9 * E_a
 
 
-def test_clamped_bar_carries_minus_E_alpha_dT():
+def test_clamped_bar_carries_minus_E_alpha_dT(record_validation):
     te = ThermoElastic(_bar(), STEEL, dt=1.0, T_ref=T_REF, T_initial=T_REF + DT)
     p = te.elasticity
     p.clamp("x0", components=[0])
@@ -61,5 +66,8 @@ def test_clamped_bar_carries_minus_E_alpha_dT():
     E_a = STEEL.E * STEEL.alpha * DT
     assert np.abs(S[:, 0] + E_a).max() <= 1e-9 * E_a
     assert np.abs(S[:, 1:]).max() <= 1e-9 * E_a
+    record_validation("clamped thermo-elastic bar: end reaction -E alpha dT A",
+                      reference=-E_a * B * B, measured=p.reaction("x1")[0], tolerance=1e-9,
+                      unit="N", source=f'{D}, "Validation cases" 7')
     assert p.reaction("x1")[0] == pytest.approx(-E_a * B * B, rel=1e-9)
     assert te.n_factorizations == 2

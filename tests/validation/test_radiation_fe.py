@@ -35,7 +35,7 @@ def cube(k, T0, dt, eps=0.8, T_amb=0.0):
     return heat
 
 
-def test_lumped_cube_cools_into_a_0K_enclosure():
+def test_lumped_cube_cools_into_a_0K_enclosure(record_validation):
     """rho c V = 500 J/K, A = 0.06 m^2, T0 = 1000 K: t(T) exact; measured max deviation
     of t at the sampled temperatures 0.26 % (dt = 1 s, explicit flux; 0.52 % at 2 s)."""
     T0, dt, eps = 1000.0, 1.0, 0.8
@@ -53,13 +53,16 @@ def test_lumped_cube_cools_into_a_0K_enclosure():
             worst = max(worst, abs(heat.t / t_exact - 1))
     print(f"lumped radiative cooling: max |t/t_exact - 1| = {worst:.3e}, T_end "
           f"{heat.mean_temperature():.2f} K")
+    record_validation("radiating cube into a 0 K enclosure: max |t/t_exact - 1|", reference=0.0,
+                      measured=worst, tolerance=0.005, kind="abs",
+                      source="t = m c/(3 eps sigma A)(T^-3 - T0^-3) (XDEM paper's radiation, FE surface)")
     assert heat.mean_temperature() < 0.75 * T0          # it cooled substantially
     assert worst < 0.005
     assert heat.stored_heat() - E0 == pytest.approx(radiated, rel=1e-10)
 
 
 @pytest.mark.parametrize("T_amb", [300.0, 0.0])
-def test_radiating_slab_steady_state(T_amb):
+def test_radiating_slab_steady_state(T_amb, record_validation):
     """Bar 0.2 m, k = 20 W/(m K), rho c = 1e6 J/(m^3 K), T_h = 800 K, eps = 0.9: T_s from
     the balance. P1 is exact for the linear steady profile; what remains is the distance
     to steady state after 10 L^2/alpha."""
@@ -77,6 +80,13 @@ def test_radiating_slab_steady_state(T_amb):
     Ts = heat.T.x.array[np.isclose(x, L)]
     assert np.allclose(Ts, T_s, rtol=1e-6)
     q = eps * SIGMA * (T_s ** 4 - T_amb ** 4) * 0.01
+    src = "k (T_h - T_s)/L = eps sigma (T_s^4 - T_amb^4)"
+    record_validation(f"radiating slab, steady (T_amb = {T_amb} K): surface temperature",
+                      reference=T_s, measured=float(Ts.mean()), tolerance=1e-6, unit="K",
+                      source=src)
+    record_validation(f"radiating slab, steady (T_amb = {T_amb} K): radiated heat flow",
+                      reference=q, measured=-heat.radiation_heat_flow("x1"), tolerance=1e-5,
+                      unit="W", source=src)
     assert -heat.radiation_heat_flow("x1") == pytest.approx(q, rel=1e-5)
     assert heat.dirichlet_heat_flow("x0") == pytest.approx(q, rel=1e-5)
 

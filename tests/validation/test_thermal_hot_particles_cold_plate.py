@@ -19,6 +19,8 @@ from gsi.dem import Material, Simulation
 from gsi.fem.elasticity import Elasticity
 from gsi.fem.heat import Heat
 
+D = "docs/design.md"  # where the references are written down
+
 L, LZ = 0.03, 0.003
 R = 2.0e-3
 DT, N_SUB = 2.0e-5, 20
@@ -53,9 +55,13 @@ def run(request):
     return cp
 
 
-def test_heat_lost_by_particles_is_gained_by_the_plate_invariant_of_the_transfer(run):
+def test_heat_lost_by_particles_is_gained_by_the_plate_invariant_of_the_transfer(run, record_validation):
     h = run.history()
     assert np.count_nonzero(h["Q_particles"] > 0) > 100          # heat flowed on most steps
+    record_validation("hot particles on a cold plate: |heat lost - heat gained| / largest step heat",
+                      reference=0.0,
+                      measured=float(np.abs(h["balance_error"]).max() / np.abs(h["Q_particles"]).max()),
+                      tolerance=1e-12, kind="abs", source=f'{D}, "Validation cases" 9')
     assert np.abs(h["balance_error"]).max() <= 1e-12 * np.abs(h["Q_particles"]).max()
     # the convective exchange at the underside is in the balance (early on it is tiny and
     # of either sign: consistent-capacity P1 undershoots below T_ambient near a point load)

@@ -27,6 +27,8 @@ from gsi.coupling.thermal import ThermalCoupling
 from gsi.dem import Material, Simulation
 from gsi.fem.heat import Heat
 
+D = "docs/design.md"  # where the references are written down
+
 R, D = 2.0e-3, 5.0e-5          # particle radius, overlap with the wall (m)
 DT, N_SUB = 2.0e-5, 10         # DEM step (s), DEM steps per coupling step
 K_P, CP_P, RHO_P = 1.0, 10.0, 2500.0
@@ -53,7 +55,7 @@ def _conductance(k_w):
     return 4 * K_P * k_w / (K_P + k_w) * math.sqrt(math.pi * a2)
 
 
-def test_lumped_two_body_limit():
+def test_lumped_two_body_limit(record_validation):
     L, Lz = 0.02, 0.005
     block = meshes.build("box", length_x=L, length_y=L, length_z=Lz, n=(2, 2, 1))
     wall = dict(E=1e9, nu=0.3, rho=1.0, c=420.0, k=1e6)   # near-isothermal block
@@ -78,6 +80,10 @@ def test_lumped_two_body_limit():
     Tp_d, Tw_d = np.array(Tp_d), np.array(Tw_d)
     dT0 = T_p0 - T_w0
     # isothermality error of the block: ~ H dT0/(k L) = 6e-7 dT0
+    record_validation("two-body limit (particles on a block): particles vs exact discrete "
+                      "staggered solution, max error / dT0", reference=0.0,
+                      measured=float(np.abs(h["T_particles_mean"] - Tp_d).max() / dT0),
+                      tolerance=1e-6, kind="abs", source=f'{D}, "Validation cases" 9')
     assert np.abs(h["T_particles_mean"] - Tp_d).max() <= 1e-6 * dT0
     assert np.abs(h["T_wall_mean"] - Tw_d).max() <= 1e-6 * dT0
     # continuous lumped two-body solution

@@ -30,7 +30,7 @@ def _case4(**dem):
     return case, sim
 
 
-def test_case4_biot_is_0_2_and_warns():
+def test_case4_biot_is_0_2_and_warns(record_validation):
     case, sim = _case4()
     with pytest.warns(BiotWarning, match=r"dem.heat = 'radius'.*Bi = H/\(k pi R\) = 0.199"):
         rep = check_biot(case, sim)
@@ -40,6 +40,9 @@ def test_case4_biot_is_0_2_and_warns():
     assert rep.H == pytest.approx(2 * 385.0 * a, rel=1e-12)
     assert rep.max == pytest.approx(0.481 / (385.0 * math.pi * R), rel=1e-3)
     assert rep.max == pytest.approx(2 * a / (math.pi * R), rel=1e-12)
+    record_validation("seed 001 case 4: Biot number H/(k pi R) (radius model)", reference=0.1988,
+                      measured=rep.max, tolerance=5e-4, kind="abs",
+                      source="the thesis's eq. II.4 with case 4's contact")
     assert rep.max == pytest.approx(0.1988, abs=5e-4)
     # the conductance is the engine's: its explicit-heat stability number dt H / (m c_p)
     C = float(sim.heat_capacity[0])

@@ -86,7 +86,7 @@ def bounce(case):
     return sim, n, R, v_in, sim.v[0].copy(), sim.omega[0].copy()
 
 
-def test_incline_normal_and_tangential_velocity():
+def test_incline_normal_and_tangential_velocity(record_validation):
     case = load_case(CASE)
     pair = next(p for p in case.pairs if "incline" in p.materials)
     e, mu, k = pair.e, pair.mu, case.dem.k_n
@@ -104,6 +104,11 @@ def test_incline_normal_and_tangential_velocity():
     assert slip_end > 0.25 * vt                      # measured 0.18 m/s = 0.45 v_t
     vt_exact = vt + G * math.sin(phi) * tc - mu * J
     # the issue's targets (1 %)
+    src = "seed 001 case 2 (thesis, chapter III): v_n'/v_n = e, v_t' = v_t + g sin(phi) t_c - mu J"
+    record_validation("seed 001 case 2, incline: normal restitution v_n'/v_n", reference=e,
+                      measured=vn_out / vn, tolerance=1e-2, source=src)
+    record_validation("seed 001 case 2, incline: tangential exit speed", reference=vt_exact,
+                      measured=vt_out, tolerance=1e-2, unit="m/s", source=src)
     assert vn_out / vn == pytest.approx(e, rel=1e-2)
     assert vt_out == pytest.approx(vt_exact, rel=1e-2)
     # the exact contact of the law under gravity, to the O(dt) onset error (the dashpot

@@ -99,10 +99,19 @@ def check_two_body(t, T1, T2, case, sim, model, *, tau_expected):
     return H, rc, C, tau, err, bound, floor
 
 
-def test_copper_radius_model_thesis_numbers():
+def test_copper_radius_model_thesis_numbers(record_validation):
     t, T1, T2, case, sim = two_body(duration=1.8)     # 34 tau: D < 1e-12 K
     H, rc, C, tau, err, bound, floor = check_two_body(t, T1, T2, case, sim, "radius",
                                                       tau_expected=0.0533)
+    src = "seed 001 case 4 (thesis, Table III.1, eq. II.5)"
+    record_validation("seed 001 case 4, copper: contact radius r_c", reference=0.6245e-3,
+                      measured=rc, tolerance=1e-4, unit="m", source=src)
+    record_validation("seed 001 case 4, copper: conductance H = 2 k r_c", reference=0.481,
+                      measured=H, tolerance=1e-3, unit="W/K", source=src)
+    record_validation("seed 001 case 4, copper: heat capacity m c_p", reference=0.0513,
+                      measured=C, tolerance=1e-3, unit="J/K", source=src)
+    record_validation("seed 001 case 4, copper: time constant tau", reference=0.0533,
+                      measured=tau, tolerance=2e-3, unit="s", source=src)
     assert rc == pytest.approx(0.6245e-3, rel=1e-4)
     assert H == pytest.approx(0.481, rel=1e-3)
     assert C == pytest.approx(0.0513, rel=1e-3)
