@@ -60,8 +60,9 @@ bench: setup
 	EXTRA_DEBS=liggghts bash .ci/setup.sh
 	$(MPIENV) $(PY) benchmarks/record.py settle -- $(PY) benchmarks/settle.py --vs-liggghts
 	$(MPIENV) $(PY) benchmarks/record.py fe_step -- $(PY) benchmarks/fe_step.py
+	$(PY) benchmarks/record.py engine_compile -- $(PY) benchmarks/engine_compile.py
 
 clean:
 	rm -rf out .pytest_cache docs/_build docs/_generated
 	find gsi benchmarks -name '*.nbi' -delete -o -name '*.nbc' -delete
-	rm -rf "$${GSI_ENGINE_DIR:-$$HOME/.cache/gsi/engines}"
+	rm -rf "$$HOME/.cache/gsi"    # numba's cache of the kernels (gsi/jit.py)
