@@ -33,7 +33,6 @@ In Python, build the same objects and call ``source.add_to(sim, rng=rng)``.
 """
 from __future__ import annotations
 
-import csv
 import math
 import pathlib
 from dataclasses import dataclass
@@ -44,6 +43,8 @@ import numpy as np
 from gsi.case.regions import Region, _prefix
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
+from gsi.case.particle_files import read_particle_file
+
 
 __all__ = ["Size", "ParticleSource", "read_particle_file", "first_overlap", "FILLS",
            "RANDOM_FILL_LIMIT", "MAX_PARTICLES"]
@@ -257,8 +258,7 @@ class ParticleSource:
             v = data["v"] if data["v"] is not None else np.asarray(self.velocity, float)
             T = data["T"] if data["T"] is not None else self.temperature
             ids = sim.add_particles(data["x"], data["radius"], material=self.material, v=v, T=T)
-            if self.fixed:
-                sim.fix(ids)
+            sim.fix(ids, self.fixed)
             return ids
         dist = self.size.distribution()
         if self.fill == "stream":
@@ -289,8 +289,7 @@ class ParticleSource:
         v = np.broadcast_to(np.asarray(self.velocity, float), (len(x), 3))
         ids = sim.add_particles(x, r, material=self.material, v=v,
                                 T=np.full(len(x), self.temperature))
-        if self.fixed:
-            sim.fix(ids)
+        sim.fix(ids, self.fixed)
         return ids
 
     def lattice_sites(self, path: str = "particles") -> np.ndarray:
@@ -438,72 +437,3 @@ def first_overlap(x, r, frac: float, *, other_x=None, other_r=None):
         return None
     k = bad[np.lexsort((j[bad], i[bad]))[0]]
     return int(i[k]), int(j[k]), float(f[k])
-
-
-def read_particle_file(path, *, key: str = "file", shown: str | None = None) -> dict:
-    """Particles of a CSV or VTU file (see the module docstring); errors name ``key`` and
-    the file as ``shown`` (default: ``path``).
-
-    Returns
-    -------
-    dict
-        ``x`` (k, 3) m, ``radius`` (k,) m, ``v`` (k, 3) m/s or None, ``T`` (k,) or None.
-    """
-    path = pathlib.Path(path)
-    key = f"{key} = '{path if shown is None else shown}'"
-    if not path.is_file():
-        raise GsiInputError(f"{key}: no such file (looked in {path.parent.resolve()})")
-    suffix = path.suffix.lower()
-    if suffix == ".csv":
-        out = _read_csv(path, key)
-    elif suffix == ".vtu":
-        out = _read_vtu(path, key)
-    else:
-        raise GsiInputError(f"{key}: must end in .csv or .vtu")
-    x, r = out["x"], out["radius"]
-    if len(x) == 0:
-        raise GsiInputError(f"{key}: holds no particles")
-    if not (np.isfinite(x).all() and np.isfinite(r).all() and (r > 0).all()):
-        raise GsiInputError(f"{key}: positions must be finite and radii > 0 (m)")
-    return out
-
-
-def _read_csv(path, key) -> dict:
-    try:
-        with open(path, newline="") as fh:
-            rows = list(csv.reader(row for row in fh if row.strip() and not row.startswith("#")))
-    except (OSError, UnicodeDecodeError) as exc:
-        raise GsiInputError(f"{key}: cannot read ({exc})") from None
-    if not rows:
-        raise GsiInputError(f"{key}: empty; needs a header x,y,z,radius")
-    head = [h.strip() for h in rows[0]]
-    missing = [c for c in ("x", "y", "z", "radius") if c not in head]
-    if missing:
-        raise GsiInputError(f"{key}: header {head} lacks {', '.join(missing)}; "
-                            "columns x,y,z,radius (m) and optional vx,vy,vz,T")
-    try:
-        data = np.array([[float(v) for v in row] for row in rows[1:]], float).reshape(-1, len(head))
-    except ValueError as exc:
-        raise GsiInputError(f"{key}: not numbers after the header ({exc})") from None
-    col = {h: data[:, i] for i, h in enumerate(head)}
-    has_v = all(c in col for c in ("vx", "vy", "vz"))
-    return {"x": np.column_stack([col["x"], col["y"], col["z"]]), "radius": col["radius"],
-            "v": np.column_stack([col["vx"], col["vy"], col["vz"]]) if has_v else None,
-            "T": col.get("T")}
-
-
-def _read_vtu(path, key) -> dict:
-    import meshio
-    try:
-        m = meshio.read(path)
-    except Exception as exc:      # meshio raises many kinds
-        raise GsiInputError(f"{key}: cannot read ({exc})") from None
-    pd = m.point_data
-    if "radius" not in pd:
-        raise GsiInputError(f"{key}: no point data 'radius' (has: "
-                            f"{', '.join(pd) or 'none'})")
-    T = pd.get("T", pd.get("temperature"))
-    v = pd.get("velocity")
-    return {"x": np.asarray(m.points, float)[:, :3], "radius": np.asarray(pd["radius"], float).ravel(),
-            "v": None if v is None else np.asarray(v, float).reshape(-1, 3),
-            "T": None if T is None else np.asarray(T, float).ravel()}

@@ -9,7 +9,7 @@ import pytest
 SCRIPT = """
 import logging, sys
 import ffcx                       # calls logging.basicConfig() at import
-from gsi.cli import _library_logs
+from gsi.run.cli import _library_logs
 _library_logs(int(sys.argv[1]))
 logging.getLogger().setLevel(logging.INFO)     # what cffi/distutils do during a JIT build
 logging.info("building 'libffcx_forms_test'")
@@ -27,6 +27,6 @@ def test_library_info_lines_only_with_verbose(verbose, shown):
 
 
 def test_verbose_option_on_gsi_and_gsi_run():
-    from gsi.cli import _parser
+    from gsi.run.cli import _parser
     assert _parser().parse_args(["-v", "info"]).verbose == 1
     assert _parser().parse_args(["run", "-vv", "x.toml"]).verbose_run == 2

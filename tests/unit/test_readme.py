@@ -10,7 +10,7 @@ import tomllib
 import pytest
 
 from gsi.case import case_from_table
-from gsi.cli import _parser
+from gsi.run.cli import _parser
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 README = (ROOT / "README.md").read_text()

@@ -29,7 +29,7 @@ def test_fixed_source_is_held_and_may_overlap():
     sim, _, groups = build_simulation(case, dt=case.check())
     ids = groups["pair"]
     assert len(ids) == 2
-    assert np.all(sim._pa["fixed"][sim.index(ids)] == 1)
+    assert np.all(sim.particles.fixed[sim.index(ids)] == 1)
 
 
 def test_fixed_overlap_is_refused_without_fixed():
