@@ -49,56 +49,14 @@ def adaptive_skin(skin, skin_max, dt, *velocities):
     return float(min(skin_max, max(skin, 2.0 * STEPS_PER_BUILD * np.sqrt(v2) * dt)))
 
 
-class TriangleBins:
-    """The triangles of the mesh walls binned into the cells of the neighbour grid, kept
-    from one list build to the next while the grid is the same and no vertex has moved
-    more than the margin they were binned with.
-
-    Binning is the costly part of a list build with large triangles (each goes into every
-    cell of its bounding box near it): 2.2 ms of the 3.8 ms build of the quick hopper
-    demo (400 spheres, a cone of 96 triangles, a membrane), rebuilt every 3.5 steps.
-    The triangles are binned with the reach ``inflate + margin``: a triangle none of
-    whose vertices has moved more than ``margin`` since is still in every cell whose
-    centre it now comes within ``inflate`` of (each point of it moved <= margin), so the
-    bins stay a superset of the bins of today's positions; the candidates are then
-    filtered by their true distance (:func:`gsi.dem.neighbour.tri_candidates`).
-    """
-
-    #: margin as a fraction of the smallest cell size
-    MARGIN = 0.25
-
-    def __init__(self):
-        self._key = None
-        self._tri = None
-        self._x = None
-        self._margin = 0.0
-        self._bins = None
-        self.binnings = 0
-
-    def bins(self, M, lo, inv_cs, dims, inflate):
-        """``(tcell_start, tcell_list)`` for the mesh bundle ``M`` on the grid."""
-        key = (tuple(dims), tuple(inv_cs), tuple(lo), inflate)
-        if (self._bins is not None and key == self._key and M.tri is self._tri
-                and self._x.shape == M.x.shape):
-            moved2 = np.max(np.sum((M.x - self._x) ** 2, axis=1)) if len(M.x) else 0.0
-            if moved2 <= self._margin ** 2:
-                return self._bins
-        self._margin = self.MARGIN / float(np.max(inv_cs))
-        self._bins = nbr.bin_triangles(M.x, M.tri, lo, inv_cs, dims, inflate + self._margin)
-        self._key, self._tri, self._x = key, M.tri, M.x.copy()
-        self.binnings += 1
-        return self._bins
-
-
 def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n,
-                sort_particles, tri_bins=None):
+                sort_particles):
     """New :data:`gsi.dem.state.Pairs` for the particles of ``store`` (a
     :class:`gsi.dem.storage.ParticleStore`) and the mesh and planes of ``walls`` (a
     :class:`gsi.dem.wall_registry.Walls`); ``old``: the previous lists and
     ``ids_at_build`` their particle ids (None: none yet). With ``sort_particles`` the
     rows are re-ordered into the force pass's visiting order. Updates the plane
     candidates and the build positions (particles ``x0``, walls ``x0``/``point0``).
-    ``tri_bins``: a :class:`TriangleBins` kept between builds (None: bin afresh).
     Returns ``(pairs, ids)``: the lists and the particle ids they were built for."""
     n = store.n
     x = store.particle["x"][:n]
@@ -147,8 +105,7 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     else:
         old_of_new = np.full(n, -1, np.int64)
     mc_start, mc_tri, mc_hist = _triangle_candidates(
-        walls.mesh_state, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new, built,
-        tri_bins or TriangleBins())
+        walls.mesh_state, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new, built)
     pairs = Pairs(slab_start, slab_list, nb_start, nb_j, hist, pact, mc_start, mc_tri,
                   mc_hist)
     pl = walls.plane_state
@@ -159,13 +116,13 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
 
 
 def _triangle_candidates(M, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new,
-                         built, tri_bins):
+                         built):
     """Triangle candidates of each particle, their springs carried over from ``old``."""
     n = len(x)
     mc_start = np.zeros(n + 1, np.int64)
     if not len(M.tri):
         return mc_start, np.zeros(0, np.int32), np.zeros((0, 3))
-    tstart, tlist = tri_bins.bins(M, lo, inv_cs, dims, rmax + skin)
+    tstart, tlist = nbr.bin_triangles(M.x, M.tri, lo, inv_cs, dims, rmax + skin)
     dummy = np.zeros(0, np.int32)
     nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start, dummy,
                        True)

@@ -54,7 +54,7 @@ from gsi.dem.engine import get_engine
 from gsi.dem import contact_log as clog
 from gsi.dem import checks
 from gsi.dem.checkpoint_state import capture, restore
-from gsi.dem.lists import TriangleBins, adaptive_skin, build_lists
+from gsi.dem.lists import adaptive_skin, build_lists
 from gsi.dem.log_control import ContactLogControl
 from gsi.dem.state import MAX_WALL_SLOTS, empty_pairs
 from gsi.dem.step_codes import StepCode, StepFlags, blow_up, lost_particles
@@ -149,7 +149,6 @@ class Simulation(ParticleViews):
         self.next_id = 0                # the id the next particle gets
         self.store = ParticleStore(16)
         self.walls = Walls(self.store)
-        self.tri_bins = TriangleBins()      # triangle bins kept between list builds
         self.pairs = empty_pairs(0)
         self.inserters = []
         self.n_rebuilds = 0
@@ -367,7 +366,7 @@ class Simulation(ParticleViews):
         self.pairs, self.ids_at_build = build_lists(
             self.store, self.walls, self.pairs, self.ids_at_build if self.flags.built else None,
             lo=self.lo, hi=self.hi, skin=self.list_skin, parallel_min_n=self.parallel_min_n,
-            sort_particles=self.sort_particles, tri_bins=self.tri_bins)
+            sort_particles=self.sort_particles)
         self.flags.built = True
         self.flags.need_rebuild = False
         self.n_rebuilds += 1

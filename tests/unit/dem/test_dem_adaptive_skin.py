@@ -1,5 +1,4 @@
-"""The adaptive skin (gsi.dem.lists.adaptive_skin) and the triangle bins kept between
-list builds (gsi.dem.lists.TriangleBins): faster list builds, the same contacts."""
+"""The adaptive skin (gsi.dem.lists.adaptive_skin): fewer list builds, the same contacts."""
 import numpy as np
 
 from gsi.dem import Material, Simulation
