@@ -2,6 +2,18 @@
 
 Set ``GSI_NO_JIT=1`` to run the kernels as plain Python (debugging); ``NUMBA_NUM_THREADS``
 sets the thread count of ``prange`` loops.
+
+Compile time (the engine's budget is a minute, cold, for every contact model):
+
+- **literals**: numba types a call argument that is a constant (``0``, or a counter that
+  starts at ``0``) as ``Literal[int](0)`` while it infers types, and compiles the callee
+  once for the literal and once more for ``int64``.  Counters passed to a compiled
+  function start as ``np.int64(0)`` or ``uint(0)``, lane indices are always ``uint``.
+- **inlining**: every compiled function is optimized again, by LLVM, in each library
+  that calls it (numba links callees into the caller's module), so a deep chain of
+  calls around the contact model costs its size once per level; numba's own IR
+  inlining (``inline="always"``) re-types the callee at every call site, and is kept
+  for the few helpers where it shapes vectorized loops.
 """
 import hashlib
 import os
@@ -70,7 +82,12 @@ JIT_FLAGS = dict(
     error_model="numpy",  # division by zero gives inf/nan instead of raising (no branch)
 )
 
-PARALLEL_FLAGS = dict(JIT_FLAGS, parallel=True)  # kernels with a prange loop over particles
+#: the parallel transformations used: explicit ``prange`` loops only (numba's automatic
+#: parallelization of array expressions is off: no kernel relies on it, and its passes
+#: cost compile time)
+PARALLEL_OPTIONS = dict(prange=True, comprehension=False, reduction=False,
+                        inplace_binop=False, setitem=False, numpy=False, stencil=False,
+                        fusion=False)
 
 
 def njit(*args, **kwargs):
@@ -85,7 +102,8 @@ def njit(*args, **kwargs):
 
 def pjit(*args, **kwargs):
     """``numba.njit(parallel=True)`` with gsi's flags (kernels with ``prange``)."""
-    return njit(*args, **dict(PARALLEL_FLAGS, **kwargs))
+    # a fresh dict each time: numba's ParallelOptions consumes the one it is given
+    return njit(*args, **dict(JIT_FLAGS, parallel=dict(PARALLEL_OPTIONS), **kwargs))
 
 
 prange = range if DISABLE_JIT else numba.prange

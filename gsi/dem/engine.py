@@ -21,12 +21,12 @@ One DEM step (velocity Verlet, docs/design.md "DEM physics"):
    new forces; walls move.
 2. scan: largest displacement since the last neighbour build (rebuild when it
    exceeds skin/2), particles outside the domain, NaN or runaway velocities.
-3. :func:`contact_forces` (parallel, two colours of slabs): every contact once, added to
+3. the force pass (parallel, two colours of slabs; see :func:`advance`): every contact once, added to
    both bodies.
 4. v += dt/2 F/m, omega += dt/2 T/I; T += dt Q/(m c_p).
 5. serial sums of wall forces, torques and the coupling accumulators.
 
-Steps 4 and the next step's 1-2 run inside :func:`contact_forces`, slab by slab as the
+Steps 4 and the next step's 1-2 run inside the force pass, slab by slab as the
 forces complete, so a step has two parallel regions; only the first step of a call to
 :func:`advance` drifts on its own.  With the contact log on, a sampled step ends before
 the next one drifts (same arithmetic, not fused) and the log samples its contacts.
@@ -40,7 +40,7 @@ from gsi.dem.contact.lanes import CH, NB, A2, RI, RJ, DTEMP, Q
 from gsi.dem.contact.model import (evaluate_heat, model_ids, M_HEAT, M_LOG, M_ROLLING,
                                    NORMAL, ROLLING, HEAT)
 from gsi.dem.contact_geometry import spheres_touch, wall_radius2, plane_distance
-from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample
+from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample, empty_log_state
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
                                reduce_scans, verdict)
 from gsi.dem.pair_lanes import gather_pairs, finish_pairs
@@ -51,14 +51,18 @@ from gsi.dem.wall_kernels import move_walls, plane_sums, mesh_scatter
 from gsi.errors import GsiInputError
 
 
+#: ``nsteps`` of :func:`advance` that computes the forces only (no step)
+FORCES_ONLY = -1
+
+
 # ---- the force pass ----------------------------------------------------------------------
 
 @njit
 def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, model, pl_acc,
               gx, gy, gz, lo, hi, vmax2, scan_out):
-    """One task of :func:`contact_forces`: the contacts of the particles of slab ``sl``
+    """One task of the force pass (:func:`advance`): the contacts of the particles of slab ``sl``
     (pairs, planes, triangles) in batches of up to :data:`CH` lanes, then, for the second
-    colour, the integration of the slabs this task completes (see :func:`contact_forces`).
+    colour, the integration of the slabs this task completes (see :func:`advance`).
 
     A plain (not parallel) function called from the ``prange`` loop; the bundles arrive
     as plain tuples (see :mod:`gsi.dem.state`) and are named here."""
@@ -84,7 +88,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     wp = np.empty(CH, np.int64)
     wrow = np.empty(CH, np.int64)
     n = uint(0)
-    nrow = 0
+    nrow = np.int64(0)     # not a literal 0 (gsi.jit: literals)
     nw = uint(0)
     for m in range(pairs.slab_start[sl], pairs.slab_start[sl + 1]):
         i = pairs.slab_list[m]
@@ -96,7 +100,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
                 finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt,
                              model, heat_on)
                 n = uint(0)
-                nrow = 0
+                nrow = np.int64(0)
             k1 = min(k_end, k0 + (uint(CH) - n))
             n = gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_on)
             brow[nrow] = i
@@ -125,61 +129,39 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
         scan_out[sl, 2] = bd
 
 
+# ---- the step loop ---------------------------------------------------------------------
+
 @pjit
-def contact_forces(mode, dt, P, pairs, pl, M, wc, table, model, pl_acc, gx, gy, gz, lo, hi,
-                   vmax2, scan_out):
-    """Add all contact forces, torques and heat rates to P.force, P.torque, P.q (cleared
-    before), and (``mode`` 1 or 2) integrate each particle as soon as its forces are
-    complete.
+def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs, pl, M, wc,
+            table, lg, model):
+    """Run up to ``nsteps`` steps; stop early when the caller must act.
 
-    Pairs (half list; a pair is stored at the particle of the lower slab): the law is
-    evaluated once per pair and added to both particles (Newton's third law).  The
-    slabs (at least one cutoff wide) are processed in two colours, even then odd, in
-    parallel within a colour: a particle of slab s writes only to slabs s and s + 1,
-    so no two threads write the same particle.
+    Each step is the force pass, which also ends this step and, unless it is the last
+    one, starts the next (kick, drift, clear, scan), then the serial wall sums and the
+    wall motion.  ``lg`` is the contact log's :data:`gsi.dem.contact_log.LogState` (read
+    only when the model's log switch is on: the step ``lg.ctrl[C_STEP] + s + 1 ==
+    lg.ctrl[C_NEXT]`` is sampled).  ``nsteps`` = :data:`FORCES_ONLY`: the force pass
+    alone, at the current state (:meth:`Engine.compute_forces`).
 
-    Integration in the same pass (``mode`` 0: none, the forces only; 1: the second half
-    kick; 2: that kick, then the next step's kick, drift and clear, see
+    **The force pass** adds all contact forces, torques and heat rates to P.force,
+    P.torque, P.q (cleared before), and (``mode`` 1 or 2) integrates each particle as
+    soon as its forces are complete.  Pairs (half list; a pair is stored at the particle
+    of the lower slab): the law is evaluated once per pair and added to both particles
+    (Newton's third law).  The slabs (at least one cutoff wide) are processed in two
+    colours, even then odd, in parallel within a colour (:func:`slab_task`): a particle
+    of slab s writes only to slabs s and s + 1, so no two threads write the same
+    particle.  Integration in the same pass (``mode`` 0: none, the forces only; 1: the
+    second half kick; 2: that kick, then the next step's kick, drift and clear, see
     :func:`gsi.dem.integrate.integrate_rows`): slab s receives forces only from slabs
     s - 1 and s, so once the task of odd slab s (second colour) has run, slabs s and
     s + 1 are complete, and only this task reads them in that colour; it integrates
     them at once (the task of slab 1 also slab 0).  This leaves two parallel regions
     per step.  ``scan_out[s]`` gets the scan of the particles the task of slab s
     integrated (mode 2).
-    """
-    nt = table.shape[0]
-    tab = table.reshape((nt * nt, table.shape[2]))
-    plh = wc.plane_hist.reshape((P.x.shape[0] * pl.point.shape[0], 3))
-    nslab = pairs.slab_start.shape[0] - 1
-    # the bundles cross the prange as plain tuples (see gsi.dem.state)
-    Pt = as_tuple(P)
-    pairst = as_tuple(pairs)
-    plt = as_tuple(pl)
-    Mt = as_tuple(M)
-    wct = as_tuple(wc)
-    for colour in range(2):
-        for si in prange((nslab - colour + 1) // 2):
-            slab_task(2 * si + colour, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab,
-                      nt, model, pl_acc, gx, gy, gz, lo, hi, vmax2, scan_out)
-    if nslab == 1 and mode > 0:        # no second colour: the one slab is complete now
-        dm, no, bd = integrate_rows(pairs.slab_start[0], P.x.shape[0], pairs.slab_list, mode,
-                                    model[M_HEAT] != 0, 0.5 * dt, dt, gx, gy, gz, P, lo, hi,
-                                    vmax2)
-        scan_out[0, 0] = dm
-        scan_out[0, 1] = no
-        scan_out[0, 2] = bd
 
-
-@njit
-def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs, pl, M, wc,
-            table, lg, model):
-    """Run up to ``nsteps`` steps; stop early when the caller must act.
-
-    Each step is the force pass (:func:`contact_forces`, which also ends this step and,
-    unless it is the last one, starts the next: kick, drift, clear, scan), then the
-    serial wall sums and the wall motion.  ``lg`` is the contact log's
-    :data:`gsi.dem.contact_log.LogState` (read only when the model's log switch is on:
-    the step ``lg.ctrl[C_STEP] + s + 1 == lg.ctrl[C_NEXT]`` is sampled).
+    The force pass is written once, inside the step loop (not a function of its own):
+    every compiled function is optimized again in each function that calls it, and
+    the force pass holds the whole contact model (see :mod:`gsi.jit`).
 
     Returns ``(steps_done, code, info)``: code 0 all done; 1 a rebuild is needed
     (the step ``steps_done`` has drifted; resume it with ``skip_first_drift``);
@@ -189,33 +171,60 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
     grow the log, sample, resume without ``skip_first_drift``.
     """
     half_dt = 0.5 * dt
+    gx = g[0]
+    gy = g[1]
+    gz = g[2]
     log_on = model[M_LOG] != 0
+    heat_on = model[M_HEAT] != 0
+    forces_only = nsteps == FORCES_ONLY
     npl = pl.point.shape[0]
     nv = M.x.shape[0]
     nslab = pairs.slab_start.shape[0] - 1
     pl_acc = np.zeros((nslab, npl, 7))
     scan_out = np.zeros((nslab, 3))
-    if skip_first_drift:
-        clear_forces(P, g[0], g[1], g[2])
+    nt = table.shape[0]
+    tab = table.reshape((nt * nt, table.shape[2]))
+    plh = wc.plane_hist.reshape((P.x.shape[0] * npl, 3))
+    # the bundles cross the prange as plain tuples (see gsi.dem.state)
+    Pt = as_tuple(P)
+    pairst = as_tuple(pairs)
+    plt = as_tuple(pl)
+    Mt = as_tuple(M)
+    wct = as_tuple(wc)
+    if skip_first_drift or forces_only:
+        clear_forces(P, gx, gy, gz)
     else:
-        initial_integrate(P, half_dt, dt, g[0], g[1], g[2])
+        initial_integrate(P, half_dt, dt, gx, gy, gz)
         wd2 = move_walls(dt, pl, M)
         d2, nout, bad = scan(P, lo, hi, vmax2)
         code, info = verdict(d2, wd2, nout, bad, half_skin2)
         if code != 0:
             return 0, code, info
-    for s in range(nsteps):
-        mode = 1 if s == nsteps - 1 else 2
+    for s in range(1 if forces_only else nsteps):
+        # mode 0 as a run-time value: a literal would compile the pass twice (gsi.jit)
+        mode = nsteps + 1 if forces_only else (1 if s == nsteps - 1 else 2)
         sampled = False
-        if log_on:
+        if log_on and not forces_only:
             if lg.ctrl[C_STEP] + s + 1 == lg.ctrl[C_NEXT]:
                 sampled = True
                 mode = 1
         scan_out[:, 0] = 0.0
         scan_out[:, 1] = 0.0
         scan_out[:, 2] = -1.0
-        contact_forces(mode, dt, P, pairs, pl, M, wc, table, model, pl_acc, g[0], g[1], g[2],
-                       lo, hi, vmax2, scan_out)
+        # the force pass
+        for colour in range(2):
+            for si in prange((nslab - colour + 1) // 2):
+                slab_task(2 * si + colour, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh,
+                          tab, nt, model, pl_acc, gx, gy, gz, lo, hi, vmax2, scan_out)
+        if nslab == 1 and mode > 0:        # no second colour: the one slab is complete now
+            dm, no, bd = integrate_rows(pairs.slab_start[0], P.x.shape[0], pairs.slab_list,
+                                        mode, heat_on, half_dt, dt, gx, gy, gz, P, lo, hi,
+                                        vmax2)
+            scan_out[0, 0] = dm
+            scan_out[0, 1] = no
+            scan_out[0, 2] = bd
+        if forces_only:
+            return 0, 0, 0
         if npl > 0:
             plane_sums(dt, pl_acc, pl)
         if nv > 0:
@@ -226,7 +235,7 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
             sample(P, pairs, pl, M, wc, lg)
             if s < nsteps - 1:
                 # the next step's drift, as at the start of a call
-                initial_integrate(P, half_dt, dt, g[0], g[1], g[2])
+                initial_integrate(P, half_dt, dt, gx, gy, gz)
                 wd2 = move_walls(dt, pl, M)
                 d2, nout, bad = scan(P, lo, hi, vmax2)
                 code, info = verdict(d2, wd2, nout, bad, half_skin2)
@@ -241,20 +250,6 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
             if code != 0:
                 return s + 1, code, info
     return nsteps, 0, 0
-
-
-@njit
-def compute_forces(g, P, pairs, pl, M, wc, table, model):
-    """Forces, torques and contact springs' rotation at the current state, no motion,
-    no heat update (dt = 0): the start of a run and after external changes."""
-    nslab = pairs.slab_start.shape[0] - 1
-    clear_forces(P, g[0], g[1], g[2])
-    # mode 0 as a run-time value: a literal 0 would compile a second copy of the force
-    # pass (numba specializes a callee on literal arguments)
-    mode = pairs.slab_start[0]
-    contact_forces(mode, 0.0, P, pairs, pl, M, wc, table, model,
-                   np.zeros((nslab, pl.point.shape[0], 7)), g[0], g[1], g[2], g, g, 0.0,
-                   np.zeros((nslab, 3)))
 
 
 @njit
@@ -274,7 +269,7 @@ def heat_conductance_sum(P, pairs, pl, M, wc, table, model):
         row_i = P.type[i] * nt
         for k0 in range(pairs.start[i], pairs.start[i + 1], CH):
             k1 = min(k0 + CH, pairs.start[i + 1])
-            m = 0
+            m = uint(0)
             for k in range(k0, k1):
                 j = pairs.j[k]
                 rj = P.radius[j]
@@ -291,14 +286,15 @@ def heat_conductance_sum(P, pairs, pl, M, wc, table, model):
                 B[RJ + m] = rj
                 B[DTEMP + m] = 1.0
                 lj[m] = j
-                m += 1
-            # runs of one table row
-            l0 = 0
+                m += uint(1)
+            # runs of one table row (lane indices typed as in the force pass: the heat
+            # sub-model is compiled once for both)
+            l0 = uint(0)
             while l0 < m:
                 row = row_i + P.type[lj[l0]]
-                l1 = l0 + 1
+                l1 = l0 + uint(1)
                 while l1 < m and row_i + P.type[lj[l1]] == row:
-                    l1 += 1
+                    l1 += uint(1)
                 evaluate_heat(l0, l1, B, tab, row, model)
                 l0 = l1
             for l in range(m):
@@ -333,17 +329,20 @@ def _wall_conductance(B, ri, delta, tab, row, model):
     B[RI] = ri
     B[RJ] = math.inf
     B[DTEMP] = 1.0
-    evaluate_heat(0, 1, B, tab, row, model)
+    evaluate_heat(uint(0), uint(1), B, tab, row, model)
     return B[Q]
 
 
 # ---- the engine object ----------------------------------------------------------------------
 
+_NO_LOG = empty_log_state()
+
+
 class Engine:
     """The compiled engine bound to one contact model (:func:`get_engine`).
 
-    Its methods take the same arguments as the kernels :func:`advance`,
-    :func:`compute_forces` and :func:`heat_conductance_sum`, without ``model``.
+    Its methods take the same arguments as the kernels :func:`advance`
+    and :func:`heat_conductance_sum`, without ``model``.
     """
 
     def __init__(self, model):
@@ -357,8 +356,11 @@ class Engine:
                        pl, M, wc, table, lg, self.model)
 
     def compute_forces(self, g, P, pairs, pl, M, wc, table):
-        """Forces at the current state (see :func:`compute_forces`)."""
-        compute_forces(g, P, pairs, pl, M, wc, table, self.model)
+        """Forces, torques and the contact springs' rotation at the current state, no
+        motion, no heat update (dt = 0): the start of a run and after external changes
+        (:func:`advance` with ``nsteps`` = :data:`FORCES_ONLY`)."""
+        advance(FORCES_ONLY, False, 0.0, g, 0.0, 0.0, g, g, P, pairs, pl, M, wc, table,
+                _NO_LOG, self.model)
 
     def heat_conductance_sum(self, P, pairs, pl, M, wc, table):
         """Per-particle conductance sums (see :func:`heat_conductance_sum`)."""

@@ -28,7 +28,8 @@ another term (radiation) is a further sum in the engine.
 Each model also has its lane loop (``<name>_lanes``, the heat sub-model of
 :mod:`gsi.dem.contact.model`): Q = H (T_j - T_i) into i for the lanes of a batch
 (:mod:`gsi.dem.contact.lanes`: reads ``A2``, ``RI``, ``RJ``, ``DTEMP``, writes ``Q``);
-the conductance functions are inlined into it (``inline="always"``).
+the conductance functions are plain compiled functions, which LLVM inlines (numba's
+own IR inlining, ``inline="always"``, re-typed them in every caller: 7 s of compiling).
 """
 import math
 
@@ -38,25 +39,25 @@ from gsi.dem.contact.lanes import A2, RI, RJ, DTEMP, Q
 from gsi.dem.materials import P_HC, P_K_I, P_K_J, P_KH, P_PIPE_R, P_PIPE_W
 
 
-@njit(inline="always")
+@njit(_nrt=False)
 def area(a2, ri, rj, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) sqrt(pi a^2) (W/K)."""
     return tab[row, P_KH] * sqrt(math.pi * a2) if a2 > 0.0 else 0.0
 
 
-@njit(inline="always")
+@njit(_nrt=False)
 def radius(a2, ri, rj, tab, row):
     """H = 4 k_i k_j/(k_i + k_j) a (W/K)."""
     return tab[row, P_KH] * sqrt(a2) if a2 > 0.0 else 0.0
 
 
-@njit(inline="always")
+@njit(_nrt=False)
 def constant(a2, ri, rj, tab, row):
     """H = h_c (W/K) for every touching pair."""
     return tab[row, P_HC]
 
 
-@njit(inline="always")
+@njit(_nrt=False)
 def pipe_resistance(a, r, k):
     """Feng's pipe resistance per length (K m/W) of a cylinder of radius ``r`` (m) and
     conductivity ``k`` whose contact half-chord is ``a`` (m); 0 for r = inf (a wall)."""
@@ -66,7 +67,7 @@ def pipe_resistance(a, r, k):
     return (-math.log(alpha) + 1.5 + alpha * alpha / 36.0) / (math.pi * k)
 
 
-@njit(inline="always")
+@njit(_nrt=False)
 def pipe(a2, ri, rj, tab, row):
     """H = w/(R_i + R_j + R_c*) (W/K), Feng's pipe network (module docstring)."""
     if a2 <= 0.0:
@@ -77,7 +78,7 @@ def pipe(a2, ri, rj, tab, row):
     return tab[row, P_PIPE_W] / R
 
 
-@njit(inline="always")
+@njit(_nrt=False)
 def none(a2, ri, rj, tab, row):
     """No conduction."""
     return 0.0

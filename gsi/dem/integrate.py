@@ -70,13 +70,13 @@ def scan_one(i, P, lo, hi):
 @njit
 def _drift_t(i, half_dt, dt, gx, gy, gz, Pt):
     """:func:`drift_one` with the bundle as a plain tuple (inside a prange)."""
-    drift_one(i, half_dt, dt, gx, gy, gz, Particles(*Pt))
+    drift_one(np.int64(i), half_dt, dt, gx, gy, gz, Particles(*Pt))   # int64, as callers
 
 
 @njit
 def _clear_t(i, gx, gy, gz, Pt):
     """:func:`clear_one` with the bundle as a plain tuple (inside a prange)."""
-    clear_one(i, gx, gy, gz, Particles(*Pt))
+    clear_one(np.int64(i), gx, gy, gz, Particles(*Pt))
 
 
 @pjit

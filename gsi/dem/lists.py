@@ -86,13 +86,14 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
         cell_list = new_of_old[cell_list].astype(cell_list.dtype)
         slab_list = np.arange(n, dtype=slab_list.dtype)
     counts = np.empty(n, np.int64)
-    nbr.count_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts)
     nb_start = np.zeros(n + 1, np.int64)
+    nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
+                   nb_start, np.empty(0, np.int32), False)
     np.cumsum(counts, out=nb_start[1:])
     npair = int(nb_start[-1])
     nb_j = np.empty(npair, np.int32)
-    nbr.fill_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_start,
-                   nb_j)
+    nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
+                   nb_start, nb_j, True)
     hist = np.zeros((npair, 3))
     pact = np.zeros(npair, np.uint8)
     # new row -> old row through the ids at the last build

@@ -11,6 +11,7 @@ point (within :data:`SAME_POINT_TOL` R).
 Law-independent: the engine calls :func:`select_triangle_contacts` and then
 evaluates its law on the accepted slots.
 """
+import numpy as np
 from gsi.jit import njit
 from gsi.dem.geometry import closest_point_triangle, FACE, VA, VB, VC, EAB, EBC
 from gsi.dem.state import MAX_WALL_SLOTS
@@ -70,7 +71,7 @@ def select_triangle_contacts(i, xi0, xi1, xi2, ri, pairs, M, wc):
     accepted contact.  Springs of candidates without an accepted contact restart from
     zero.  Returns the number of slots used (more than :data:`MAX_WALL_SLOTS` raise
     ``wc.overflow``)."""
-    ns = 0
+    ns = np.int64(0)       # not a literal 0 (gsi.jit: literals)
     c0 = pairs.tri_start[i]
     c1 = pairs.tri_start[i + 1]
     if c1 == c0:

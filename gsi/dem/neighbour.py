@@ -8,7 +8,7 @@
   where the particles spread most, see :func:`slab_layout`; ties by the smaller
   index).  The force kernel then writes
   only to its own slab and the next one, so slabs of one parity run in parallel
-  without races (see :func:`gsi.dem.engine.contact_forces`).
+  without races (see the force pass of :func:`gsi.dem.engine.advance`).
 - The list is rebuilt when any particle (or wall vertex) has moved more than skin/2
   since the last build.  Tangential springs survive a rebuild: each new pair looks
   its partners up in the old list through ``old_of_new`` (new index -> old index,
@@ -58,21 +58,15 @@ def _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
 
 
 @pjit
-def count_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, counts):
-    """Number of half-list partners of each particle (:func:`_partners`)."""
-    none = np.zeros(0, np.int32)
+def find_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
+               nb_start, nb_j, fill):
+    """Half-list partners of each particle (:func:`_partners`): their number into
+    ``counts``, and with ``fill`` the partners into ``nb_j[nb_start[i]:nb_start[i+1]]``.
+    One function for both passes (count, then fill): a parallel loop costs seconds to
+    compile, and this one is compiled once."""
     for i in prange(n):
         counts[i] = _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list,
-                              dims, none, 0, False)
-
-
-@pjit
-def fill_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_start,
-               nb_j):
-    """Partners of each particle into ``nb_j[nb_start[i]:nb_start[i+1]]``."""
-    for i in prange(n):
-        _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_j,
-                  nb_start[i], True)
+                              dims, nb_j, nb_start[i] if fill else 0, fill)
 
 
 #: particles per slab at least (on average) in a serial run of a small system: a slab
@@ -88,7 +82,7 @@ def slab_layout(coord, cutoff, nthreads, min_per_slab=1):
     slabs) and as many as fit over the particles' extent, at most one per
     ``min_per_slab`` particles (:data:`MIN_SLAB_PARTICLES` for a system too small to
     run in parallel), rounded down to a multiple of 2 x ``nthreads`` when there are
-    that many: each colour of :func:`gsi.dem.engine.contact_forces` then splits evenly
+    that many: each colour of the force pass of :func:`gsi.dem.engine.advance` then splits evenly
     over the threads.
     """
     if len(coord) == 0:
