@@ -24,9 +24,8 @@ Inputs (written by the geometry code):
 
 Outputs (written by the sub-models):
 
-- ``FN``           normal force magnitude (N, > 0 repulsive), elastic + damping (the
-  tangential stiffness and damping pass from the normal to the tangential model in
-  registers: :func:`gsi.dem.contact.model.force_stage`)
+- ``FN``           normal force magnitude (N, > 0 repulsive), elastic + damping
+- ``KT, GT``       tangential stiffness (N/m) and damping (N s/m, <= 0) for the tangential model
 - ``FX, FY, FZ``   total contact force on i (N)
 - ``MX, MY, MZ``   rolling-resistance torque on i (N m)
 - ``Q``            heat rate into i (W)
@@ -39,17 +38,17 @@ select that hides the address from LLVM's loop vectorizer.
 """
 from gsi.jit import uint
 
-#: lanes per batch: 72 lanes x 43 fields x 8 bytes = 25 kB stay in a 32 kB L1 cache
+#: lanes per batch: 72 lanes x 45 fields x 8 bytes = 26 kB stay in a 32 kB L1 cache
 #: (40, 72, 136 and 264 lanes timed the same in the batched engine of 2026-12-03)
 CH = 72
 
 _NAMES = ("NX NY NZ DELTA VX VY VZ REFF MEFF IEFF WX WY WZ A2 RI RJ DTEMP HX HY HZ "
-          "FN FX FY FZ MX MY MZ Q "
+          "FN KT GT FX FY FZ MX MY MZ Q "
           "AI AJ MI MJ II IJ WIX WIY WIZ TIX TIY TIZ TJX TJY TJZ").split()
 #: number of fields of the buffer (its size is NB * CH)
 NB = len(_NAMES)
 
 (NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IEFF, WX, WY, WZ, A2, RI, RJ, DTEMP, HX, HY, HZ,
- FN, FX, FY, FZ, MX, MY, MZ, Q,
+ FN, KT, GT, FX, FY, FZ, MX, MY, MZ, Q,
  AI, AJ, MI, MJ, II, IJ, WIX, WIY, WIZ, TIX, TIY, TIZ, TJX, TJY, TJZ) = [
     uint(f * CH) for f in range(NB)]
