@@ -29,7 +29,7 @@ from gsi.dem.contact_geometry import plane_distance
 from gsi.dem.cells import cell_coords, neighbour_cell
 
 
-@njit(inline="always")
+@njit
 def _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_j, pos,
               fill):
     """The half-list partners of particle i (within R_i + R_j + skin, in a higher slab,
