@@ -105,3 +105,38 @@ class Walls:
         M = self.mesh_state
         return np.array([M.T[M.vertex_wall == w].mean() if (M.vertex_wall == w).any()
                          else 0.0 for w in range(len(M.wall_type))])
+
+
+class WallViews:
+    """Named views of a simulation's walls (``self.walls``, a :class:`Walls`), as
+    :class:`gsi.dem.storage.ParticleViews` offers its particles."""
+
+    @property
+    def plane_state(self):
+        """The planes (:data:`gsi.dem.state.Planes`)."""
+        return self.walls.plane_state
+
+    @property
+    def mesh_state(self):
+        """The mesh walls (:data:`gsi.dem.state.Mesh`)."""
+        return self.walls.mesh_state
+
+    @property
+    def planes(self):
+        """The :class:`PlaneWall` handles, in order."""
+        return self.walls.planes
+
+    @property
+    def mesh_walls(self):
+        """The :class:`MeshWall` handles, in order."""
+        return self.walls.mesh_walls
+
+    @property
+    def n_planes(self):
+        """Number of plane walls."""
+        return self.walls.n_planes
+
+    def wall_slot(self, wall):
+        """The wall's index among all walls, planes first (as the contact log numbers
+        them)."""
+        return self.walls.slot(wall)
