@@ -258,8 +258,9 @@ class Simulation(ParticleViews, WallViews):
                                                      vertex_temperature=vertex_temperature))
 
     def wall_moved(self):
-        """A mesh wall moved between steps (``set_vertices``): rebuild the candidate lists
-        if it moved more than half the skin. The forces of the last step are NOT evaluated
+        """Mesh walls may have moved between steps (``set_vertices``; the step loop asks at
+        every :meth:`step`): rebuild the candidate lists before the next step if a vertex
+        moved more than half the skin. The forces of the last step are NOT evaluated
         again: a force evaluation advances every tangential spring by its increment, so a
         second one at the same time level would count that increment twice (and a coupled
         structure's interval boundary would perturb every contact in the DEM). The moved

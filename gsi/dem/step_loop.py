@@ -24,6 +24,7 @@ def run(sim, n):
     particles."""
     if n < 0:
         raise GsiInputError(f"step n = {n}: must be >= 0")
+    sim.wall_moved()                  # mesh walls set between the calls
     threads = numba.get_num_threads()
     if sim.n < sim.parallel_min_n:
         numba.set_num_threads(1)
@@ -86,6 +87,7 @@ def heat_stability(sim):
     explicit heat update is stable below 1."""
     if sim.heat is None or sim.n == 0:
         return 0.0
+    sim.wall_moved()
     if sim.flags.need_rebuild or not sim.flags.built:
         sim.rebuild_lists()
     Hs = sim.engine.heat_conductance_sum(*sim.bundles(), sim.table)

@@ -236,7 +236,9 @@ class MeshWall:
         return self._sim.mesh_state.v[self._vs()].copy()
 
     def set_vertices(self, x, v=None):
-        """Replace vertex positions (m) and velocities (m/s; None keeps the current ones)."""
+        """Replace vertex positions (m) and velocities (m/s; None keeps the current ones).
+        The next step sees them; its neighbour lists are rebuilt first if a vertex moved
+        more than half the skin (:meth:`gsi.dem.Simulation.wall_moved`)."""
         s = self._sim
         x = np.asarray(x, float)
         if x.shape != (self.n_vertices, 3):
@@ -248,7 +250,6 @@ class MeshWall:
                 raise GsiInputError(f"wall.set_vertices v shape {v.shape}: must be ({self.n_vertices}, 3)")
             s.mesh_state.v[self._vs()] = v
         s.mesh_state.wall_rigid[self._w] = 0
-        s.wall_moved()
 
     def set_motion(self, velocity=(0.0, 0.0, 0.0), omega=(0.0, 0.0, 0.0), centre=None):
         """Rigid motion: translation ``velocity`` (m/s), rotation ``omega`` (rad/s) about
