@@ -258,14 +258,9 @@ class Simulation(ParticleViews, WallViews):
                                                      vertex_temperature=vertex_temperature))
 
     def wall_moved(self):
-        """Mesh walls may have moved between steps (``set_vertices``; the step loop asks at
-        every :meth:`step`): rebuild the candidate lists before the next step if a vertex
-        moved more than half the skin. The forces of the last step are NOT evaluated
-        again: a force evaluation advances every tangential spring by its increment, so a
-        second one at the same time level would count that increment twice (and a coupled
-        structure's interval boundary would perturb every contact in the DEM). The moved
-        wall enters the next step's force pass: a lag of one DEM step, the staggered
-        scheme's own."""
+        """Rebuild the candidate lists before the next step if a mesh-wall vertex moved
+        more than half the skin since the last build (``set_vertices`` between steps; the
+        step loop asks at every :meth:`step`, see :mod:`gsi.dem.step_loop`)."""
         if self.walls.moved_beyond(0.5 * self.list_skin):
             self.flags.need_rebuild = True
 

@@ -7,6 +7,15 @@ It drives a simulation through its public methods and state (``sim.engine``,
 ``sim.bundles()``, ``sim.flags``, ``sim.rebuild_lists()``, ``sim.advance_idle()``, ...);
 the time-step and heat-stability checks (:mod:`gsi.dem.checks`) run here, when the
 particles or the lists change.
+
+A mesh wall moved between steps (``MeshWall.set_vertices``, e.g. by a coupled
+structure) is seen by the next step; the loop rebuilds the candidate lists first if a
+vertex moved more than half the skin (``sim.wall_moved()``). The forces of the last step
+are NOT evaluated again: a force evaluation advances every tangential spring by its
+increment, so a second one at the same time level would count that increment twice (and
+a coupled structure's interval boundary would perturb every contact in the DEM). The
+moved wall enters the next step's force pass: a lag of one DEM step, the staggered
+scheme's own.
 """
 import warnings
 
