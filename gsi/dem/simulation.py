@@ -233,7 +233,7 @@ class Simulation(ParticleViews, WallViews):
         PlaneWall
         """
         t = self.material_index(material, "plane.material")
-        wall = self.walls.add_plane(self, point, normal, mtype=t, material=material,
+        wall = self.walls.add_plane(point, normal, mtype=t, material=material,
                                     temperature=temperature, velocity=velocity)
         self.flags.changed()                  # the plane candidates of the particles
         return wall
@@ -248,7 +248,7 @@ class Simulation(ParticleViews, WallViews):
         wall = vertices if isinstance(vertices, MeshWall) else MeshWall(
             vertices, triangles, material=material, vertex_temperature=vertex_temperature)
         t = self.material_index(wall.material, "mesh_wall.material")
-        self.walls.add_mesh_wall(self, wall, mtype=t)
+        self.walls.add_mesh_wall(wall, mtype=t)
         self.flags.changed()
         return wall
 
