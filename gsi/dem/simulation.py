@@ -329,12 +329,15 @@ class Simulation(ParticleViews, WallViews):
         """Record every contact from now (t0) until :meth:`stop_contact_log` (t1): every
         ``every`` steps, contacts longer than ``dt_split`` (s) split, ``capacity`` rows
         reserved (see :meth:`gsi.dem.log_control.ContactLogControl.start`)."""
-        self.log.start(self, every=every, dt_split=dt_split, capacity=capacity)
+        self.log.start(self.particles, time=self.time, step_count=self.step_count, dt=self.dt,
+                       heat=self.heat, n_planes=self.n_planes, every=every,
+                       dt_split=dt_split, capacity=capacity)
 
     def stop_contact_log(self):
         """End the log started by :meth:`start_contact_log` (now is t1); returns the
         :class:`gsi.dem.contact_log.ContactLog`."""
-        return self.log.stop(self, self.walls)
+        return self.log.stop(self.particles, self.walls, time=self.time, dt=self.dt,
+                             heat=self.heat, table=self.table)
 
     # ------------------------------------------------------------------ diagnostics
     def contact_count(self):
