@@ -27,7 +27,7 @@ _EXPORTS = {
     "ThermalRecord": "records",
     "scale_heat_capacity": "thermal",
     "CoupledStructure": "coupled_structure",
-    "IntervalRecord": "coupled_structure",
+    "IntervalRecord": "records",
 }
 
 __all__ = list(_EXPORTS)

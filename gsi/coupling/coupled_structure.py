@@ -21,28 +21,14 @@ wall's accumulators, so their begin/finish may interleave.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
 from mpi4py import MPI
 
+from gsi.coupling.records import IntervalRecord
+
 __all__ = ["CoupledStructure", "IntervalRecord"]
-
-
-@dataclasses.dataclass
-class IntervalRecord:
-    """What :meth:`CoupledStructure.finish` returns: the interval's records.
-
-    ``mechanical``: :class:`gsi.coupling.records.MechanicalRecord` (None for a thermal-only
-    contact); ``thermal``: :class:`gsi.coupling.records.ThermalRecord` (None without heat
-    coupling). ``t`` (s): the time at the end of the interval.
-    """
-
-    name: str
-    t: float
-    mechanical: object = None
-    thermal: object = None
 
 
 class CoupledStructure:

@@ -3,7 +3,7 @@
 One name per idea: a coupling interval (n_sub DEM steps, one FE step) leaves a
 :class:`MechanicalRecord` (forces and motion, :mod:`gsi.coupling.staggered`) and/or a
 :class:`ThermalRecord` (heat, :mod:`gsi.coupling.thermal`); a structure's interval
-returns both in one :class:`gsi.coupling.coupled_structure.IntervalRecord`.
+returns both in one :class:`IntervalRecord`.
 
 :class:`RecordLog` is the part :class:`gsi.coupling.staggered.StaggeredCoupling` and
 :class:`gsi.coupling.thermal.ThermalCoupling` share: a record is a dataclass row
@@ -19,7 +19,7 @@ import pathlib
 
 import numpy as np
 
-__all__ = ["RecordLog", "MechanicalRecord", "ThermalRecord"]
+__all__ = ["RecordLog", "MechanicalRecord", "ThermalRecord", "IntervalRecord"]
 
 
 @dataclasses.dataclass
@@ -82,6 +82,21 @@ class ThermalRecord:
 
 def _fmt(v) -> str:
     return f"{v:.12g}" if isinstance(v, float) else str(v)
+
+
+@dataclasses.dataclass
+class IntervalRecord:
+    """One interval of a structure, as
+    :meth:`gsi.coupling.coupled_structure.CoupledStructure.finish` returns it.
+
+    ``mechanical``: :class:`MechanicalRecord` (None for a thermal-only contact);
+    ``thermal``: :class:`ThermalRecord` (None without heat coupling). ``t`` (s): the time at the end of the interval.
+    """
+
+    name: str
+    t: float
+    mechanical: object = None
+    thermal: object = None
 
 
 class RecordLog:

@@ -60,7 +60,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import pathlib
 import time
 
 import numpy as np

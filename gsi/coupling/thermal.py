@@ -79,7 +79,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import pathlib
 
 import numpy as np
 from mpi4py import MPI

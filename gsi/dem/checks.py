@@ -108,6 +108,22 @@ def check_options(materials, dt, skin, contact, k_n, heat, h_c, pipe_length,
     return lo, hi
 
 
+def check_particles(x, radius, lo, hi):
+    """Centres ``x`` (k, 3) finite and inside the domain box [lo, hi], radii > 0 (a
+    number or (k,)); returns them as arrays ``(x, r)``."""
+    x = np.atleast_2d(np.asarray(x, float))
+    k = len(x)
+    if x.shape != (k, 3) or not np.isfinite(x).all():
+        raise GsiInputError(f"particles.x shape {x.shape}: must be (k, 3) finite (m)")
+    r = np.broadcast_to(np.asarray(radius, float), (k,)).copy()
+    if not (r > 0).all():
+        raise GsiInputError(f"particles.radius = {r[~(r > 0)][:3].tolist()}: must be > 0 (m)")
+    if ((x < lo) | (x > hi)).any():
+        raise GsiInputError("particles.x: some centres lie outside the domain box; "
+                            "enlarge domain or move them")
+    return x, r
+
+
 def pair_override_indices(pair_overrides, index: dict) -> dict:
     """``{("mat_a", "mat_b"): {...}}`` by material index; an unknown name is an error."""
     out = {}

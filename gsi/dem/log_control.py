@@ -21,12 +21,23 @@ class ContactLogControl:
     def running(self) -> bool:
         return self._t0 is not None
 
-    def start(self, sim, *, every=1, dt_split=None, capacity=None) -> None:
-        """Record every contact of ``sim`` from now (t0) until :meth:`stop` (t1); see
+    def start(self, P, *, time, step_count, dt, heat, n_planes, every=1, dt_split=None,
+              capacity=None) -> None:
+        """Record every contact from now (t0) until :meth:`stop` (t1); see
         :mod:`gsi.dem.contact_log`.
 
         Parameters
         ----------
+        P : gsi.dem.state.Particles
+            The particles now (their ids, positions, temperatures, heat capacities and
+            types at t0 are kept).
+        time, step_count, dt : float, int, float
+            The simulation's clock (s, steps) and time step (s).
+        heat : str or None
+            The contact heat model (the log knows the contact sizes of "area",
+            "radius" and "constant").
+        n_planes : int
+            Plane walls of the simulation.
         every : int
             Sampling factor n: the contacts are sampled every ``every`` steps (the first
             sample ``every`` steps from now).
@@ -47,41 +58,43 @@ class ContactLogControl:
         if not (isinstance(every, (int, np.integer)) and every >= 1):
             raise GsiInputError(f"contact_log.every = {every}: must be an integer >= 1 "
                                 "(steps)")
-        if sim.n == 0:
+        n = len(P.id)
+        if n == 0:
             raise GsiInputError("start_contact_log: no particles to log")
-        if int(sim.ids.max()) >= 2 ** 31:
+        if int(P.id.max()) >= 2 ** 31:
             raise GsiInputError("start_contact_log: particle ids above 2^31 cannot be logged")
-        if sim.n_planes > clog.TRI_BASE:
+        if n_planes > clog.TRI_BASE:
             raise GsiInputError(f"start_contact_log: at most {clog.TRI_BASE} planes")
         split = 0
         if dt_split is not None:
-            per = every * sim.dt
+            per = every * dt
             split = int(round(dt_split / per))
             if not (dt_split > 0 and split >= 1
                     and abs(split * per - dt_split) <= 1e-9 * dt_split):
                 raise GsiInputError(
                     f"contact_log.dt_split = {dt_split}: must be a positive multiple of "
                     f"every x dt = {per:g} s (e.g. {max(split, 1) * per:g} s)")
-        n_cap = 8 * sim.n + 64
+        n_cap = 8 * n + 64
         self.state = clog.empty_log_state(n_cap, int(capacity) if capacity else 4 * n_cap)
         c = self.state.ctrl
         c[clog.C_EVERY] = every
         c[clog.C_SPLIT] = split
-        c[clog.C_NEXT] = sim.step_count + every
-        c[clog.C_START] = sim.step_count
-        if sim.heat not in clog.SIZE_MODELS:
-            raise GsiInputError(f"contact_log: heat = {sim.heat!r} is not logged (the replay "
+        c[clog.C_NEXT] = step_count + every
+        c[clog.C_START] = step_count
+        if heat not in clog.SIZE_MODELS:
+            raise GsiInputError(f"contact_log: heat = {heat!r} is not logged (the replay "
                                 f"knows the contact sizes of 'area', 'radius' and 'constant')")
-        c[clog.C_MODEL] = clog.SIZE_MODELS[sim.heat]
-        order = np.argsort(sim.ids, kind="stable")
-        self._t0 = dict(t0=sim.time, ids=sim.ids[order].copy(), x0=sim.x[order].copy(),
-                        T0=sim.T[order].copy(), heat_capacity=sim.heat_capacity[order],
-                        type_=sim.type[order].astype(np.int32))
+        c[clog.C_MODEL] = clog.SIZE_MODELS[heat]
+        order = np.argsort(P.id, kind="stable")
+        self._t0 = dict(t0=time, ids=P.id[order].copy(), x0=P.x[order].copy(),
+                        T0=P.T[order].copy(), heat_capacity=(1.0 / P.mcp_inv)[order],
+                        type_=P.type[order].astype(np.int32))
 
-    def stop(self, sim, walls):
-        """End the log (now is t1); ``walls``: the simulation's
-        :class:`gsi.dem.wall_registry.Walls`. Returns the
-        :class:`gsi.dem.contact_log.ContactLog`."""
+    def stop(self, P, walls, *, time, dt, heat, table):
+        """End the log (now is t1): ``P`` the particles (:data:`gsi.dem.state.Particles`),
+        ``walls`` the simulation's :class:`gsi.dem.wall_registry.Walls`, ``time`` (s) and
+        ``dt`` (s) its clock and step, ``heat`` its contact heat model and ``table`` its
+        pair table. Returns the :class:`gsi.dem.contact_log.ContactLog`."""
         if not self.running:
             raise GsiInputError("stop_contact_log: no contact log is running; call "
                                 "start_contact_log() first")
@@ -93,23 +106,23 @@ class ContactLogControl:
         a = self._t0
         self._t0 = None
         self.state = clog.empty_log_state()
-        order = np.argsort(sim.ids, kind="stable")
-        ids = sim.ids[order]
+        order = np.argsort(P.id, kind="stable")
+        ids = P.id[order]
         if len(ids) != len(a["ids"]) or not (ids == a["ids"]).all():
             raise GsiRunError("stop_contact_log: particles were inserted or lost since "
                               "start_contact_log; the log needs the same particles at t0 and t1")
         pl, M = walls.plane_state, walls.mesh_state
-        col = P_HC if sim.heat == "constant" else P_KH
+        col = P_HC if heat == "constant" else P_KH
         return clog.ContactLog.from_rows(
-            lg, ids=ids, x0=a["x0"], x1=sim.x[order].copy(), T0=a["T0"],
-            T1=sim.T[order].copy(), heat_capacity=a["heat_capacity"], type_=a["type_"],
-            coef=sim.table[:, :, col].copy(),
+            lg, ids=ids, x0=a["x0"], x1=P.x[order].copy(), T0=a["T0"],
+            T1=P.T[order].copy(), heat_capacity=a["heat_capacity"], type_=a["type_"],
+            coef=table[:, :, col].copy(),
             wall_type=np.concatenate([pl.type, M.wall_type]).astype(np.int32),
             wall_T=np.concatenate([pl.T, walls.mean_temperatures()]),
             wall_has_T=np.concatenate([pl.has_T, M.wall_has_T]).astype(bool),
             tri_wall=M.tri_wall.astype(np.int64), tri_first=walls.first_triangles(),
-            n_planes=walls.n_planes, dt=sim.dt, t0=a["t0"], t1=sim.time,
-            model=sim.heat or "area")
+            n_planes=walls.n_planes, dt=dt, t0=a["t0"], t1=time,
+            model=heat or "area")
 
     def grow(self, P, pairs, wc) -> None:
         """Room for the next sample: open contacts and rows at least doubled."""

@@ -86,7 +86,8 @@ import numpy as np
 
 from gsi.dem import cells
 from gsi.dem import neighbour as nbr
-from gsi.dem.radiation_kernels import SIGMA, exchange, scatter_wall_heat, view_sums
+from gsi.dem.radiation_kernels import (SIGMA, CellGrid, Emitters, RateArrays, Surfaces,
+                                      Views, exchange, scatter_wall_heat, view_sums)
 from gsi.errors import GsiInputError
 
 __all__ = ["Radiation", "Rates", "SIGMA", "CUTOFF_DEFAULT"]
@@ -256,23 +257,21 @@ class Radiation:
         else:
             tcell_start = np.zeros(int(dims.prod()) + 1, np.int64)
             tcell_list = np.zeros(0, np.int32)
-        area_sum = np.empty(n)
-        wall_tri = np.full((n, nw), -1, np.int64)
-        wall_w = np.zeros((n, nw, 3))
-        view_sums(x, r, area, self.cutoff, sim.lo, inv_cs, dims, cell_start, cell_list,
-                  pl.point, pl.normal, pl_rad, tcell_start, tcell_list, M.x, M.tri,
-                  M.tri_wall, wall_rad, area_sum, wall_tri, wall_w)
-        Q = np.empty(n)
-        Q_plane = np.zeros((n, len(pl_eps)))
-        Q_wall = np.zeros((n, nw))
-        S_mat = np.zeros((n, n) if record else (0, 0))
-        Q_mat = np.zeros((n, n) if record else (0, 0))
+        E = Emitters(x, r, area, eps, T4)
+        G = CellGrid(self.cutoff, sim.lo, inv_cs, dims, cell_start, cell_list, tcell_start,
+                     tcell_list)
         has_enc = self.T_enclosure is not None
-        T_enc4 = self.T_enclosure ** 4 if has_enc else 0.0
-        exchange(x, r, area, eps, T4, self.cutoff, sim.lo, inv_cs, dims, cell_start,
-                 cell_list, area_sum, pl.point, pl.normal, pl_rad, pl_eps, pl.T ** 4,
-                 M.tri, M.T, wall_eps, wall_tri, wall_w, T_enc4, has_enc, Q, Q_plane,
-                 Q_wall, S_mat, Q_mat)
+        S = Surfaces(pl.point, pl.normal, pl_rad, pl_eps, pl.T ** 4, M.x, M.tri, M.T,
+                     M.tri_wall, wall_rad, wall_eps,
+                     self.T_enclosure ** 4 if has_enc else 0.0, has_enc)
+        V = Views(np.empty(n), np.full((n, nw), -1, np.int64), np.zeros((n, nw, 3)))
+        view_sums(E, G, S, V)
+        pair = (n, n) if record else (0, 0)
+        out = RateArrays(np.empty(n), np.zeros((n, len(pl_eps))), np.zeros((n, nw)),
+                         np.zeros(pair), np.zeros(pair))
+        exchange(E, G, S, V, out)
+        Q, Q_plane, Q_wall, S_mat, Q_mat = out
+        area_sum, wall_tri, wall_w = V
         Q_enc = np.where(area_sum == 0.0, Q, 0.0) if has_enc else np.zeros(n)
         return Rates(Q, Q_plane, Q_wall, Q_enc, area_sum, wall_tri, wall_w,
                      S_mat if record else None, Q_mat if record else None)
@@ -292,8 +291,7 @@ class Radiation:
             self.plane_heat += qp
         if R.Q_wall.shape[1]:
             M = sim.mesh_state
-            scatter_wall_heat(dt_rad, R.wall_tri, R.wall_w, R.Q_wall, M.tri, M.tri_p6,
-                              M.tri_lam, M.tri_wall, M.vertex_heat, M.wall_heat,
+            scatter_wall_heat(dt_rad, Views(R.area_sum, R.wall_tri, R.wall_w), R.Q_wall, M,
                               self.wall_heat)
         self.enclosure_heat += float(R.Q_enclosure.sum()) * dt_rad
         self.evaluations += 1

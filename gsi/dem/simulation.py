@@ -22,7 +22,10 @@ Usage::
 Particles are addressed by *id* (stable, returned by ``add_particles``); their row in
 the state arrays (``sim.x``, ``sim.v``, ... views of the first ``n`` rows) can change
 when particles are deleted, and, with ``sort_particles=True``, at every neighbour
-build; ``sim.index(ids)`` maps ids to rows.
+build; ``sim.index(ids)`` maps ids to rows.  ``sort_particles`` re-orders the rows into
+the order the force pass visits them (slab by slab, cell by cell): memory is then read
+nearly in sequence (measured on the settle bed, 1 thread: +10 % at 20k particles, +20 %
+at 200k, 3.9x against a random order); ``sim.ids`` is then not sorted.
 
 Choices made here (time step, heat stability, radiation, lost particles, fixed
 particles): see :mod:`gsi.dem.checks`.
@@ -31,39 +34,37 @@ State: five bundles (:mod:`gsi.dem.state`; see :mod:`gsi.dem.storage`); also
 ``sim.heat_capacity`` (J/K), ``sim.material_names``, ``sim.material_index(name)``.
 
 Collaborators (each with public methods; the simulation composes them):
-:class:`gsi.dem.storage.ParticleStore` (the per-particle arrays),
-:class:`gsi.dem.wall_registry.Walls` (planes, mesh walls and their bundles),
+:class:`gsi.dem.storage.ParticleStore` (the per-particle arrays; its views
+:class:`~gsi.dem.storage.ParticleViews`),
+:class:`gsi.dem.wall_registry.Walls` (planes, mesh walls and their bundles; its views
+:class:`~gsi.dem.wall_registry.WallViews`),
 :func:`gsi.dem.lists.build_lists` (the neighbour lists),
+:mod:`gsi.dem.step_loop` (the step loop: compiled chunks and what happens between them),
 :class:`gsi.dem.log_control.ContactLogControl` (the contact log),
 :mod:`gsi.dem.checks` (the options, the time-step and heat-stability checks) and
-:mod:`gsi.dem.checkpoint_state` (the random generator's state as arrays).
-The engine (``get_engine``, :mod:`gsi.dem.engine`) is called from this module
-only: ``advance`` (its codes named by :class:`StepCode`), ``compute_forces`` and
-``heat_conductance_sum``.
+:mod:`gsi.dem.checkpoint_state` (the whole state as arrays).
+The engine (``sim.engine``, :func:`gsi.dem.engine.get_engine`) is called from
+:mod:`gsi.dem.step_loop` only: ``advance`` (its codes named by
+:class:`~gsi.dem.step_codes.StepCode`), ``compute_forces`` and ``heat_conductance_sum``.
 
 How it runs (engines, the chunked step loop, threads): see :mod:`gsi.dem.lists`.
 """
-import warnings
-
-import numba
 import numpy as np
 
-from gsi.errors import GsiInputError
-from gsi.dem.materials import pair_table
+from gsi.dem.material_set import MaterialSet
 from gsi.dem.engine import get_engine
-from gsi.dem import contact_log as clog
-from gsi.dem import checks
+from gsi.dem import checks, step_loop
 from gsi.dem.checkpoint_state import capture, restore
 from gsi.dem.lists import adaptive_skin, build_lists
 from gsi.dem.log_control import ContactLogControl
-from gsi.dem.state import MAX_WALL_SLOTS, empty_pairs
-from gsi.dem.step_codes import StepCode, StepFlags, blow_up, lost_particles
+from gsi.dem.state import empty_pairs
+from gsi.dem.step_codes import StepFlags
 from gsi.dem.storage import ParticleStore, ParticleViews
-from gsi.dem.wall_registry import Walls
+from gsi.dem.wall_registry import Walls, WallViews
 from gsi.dem.walls import MeshWall, vec3
 
 
-class Simulation(ParticleViews):
+class Simulation(ParticleViews, WallViews):
     """A DEM simulation (see the module docstring for the shape of the API).
 
     Parameters
@@ -109,10 +110,10 @@ class Simulation(ParticleViews):
         costs more than it saves for small systems).
     sort_particles : bool, default False
         Re-order the particle rows at every neighbour build into the order the force
-        pass visits them (slab by slab, cell by cell): memory is then read nearly in
-        sequence (measured on the settle bed, 1 thread: +10 % at 20k particles, +20 %
-        at 200k, 3.9x against a random order).  Rows then change at every build:
-        address particles by id (``sim.index``), and ``sim.ids`` is not sorted.
+        pass visits them (module docstring): rows then change at every build.
+    skin_max : float, optional
+        Largest skin (m) of the adaptive skin (:func:`gsi.dem.lists.adaptive_skin`);
+        default: the skin is fixed at ``skin``.
     """
 
     def __init__(self, materials, *, contact="hertz", rolling=False, heat=None, h_c=None,
@@ -122,10 +123,13 @@ class Simulation(ParticleViews):
                  dt_checked=False, skin_max=None):
         lo, hi = checks.check_options(materials, dt, skin, contact, k_n, heat, h_c, pipe_length,
                                       pipe_resistance, lost, domain)
-        self.materials = dict(materials)
-        self._mat_names = list(self.materials)
-        self._mat_index = {k: i for i, k in enumerate(self._mat_names)}
-        self.engine = get_engine(contact, rolling, heat)
+        self.material_set = MaterialSet(materials, k_n=k_n, h_c=h_c, pipe_length=pipe_length,
+                                        pipe_resistance=pipe_resistance,
+                                        pair_overrides=pair_overrides)
+        self.materials, self.table = self.material_set.materials, self.material_set.table
+        # the engine of these laws, and its logging variant (:attr:`engine`)
+        self._engines = (get_engine(contact, rolling, heat),
+                         get_engine(contact, rolling, heat, log=True))
         self.contact, self.rolling, self.heat = contact, rolling, heat
         self.k_n, self.h_c = k_n, h_c
         self.g = vec3(gravity, "gravity")
@@ -135,11 +139,6 @@ class Simulation(ParticleViews):
         self.list_skin = self.skin
         self.lo, self.hi = lo, hi
         self.force_dt, self.v_max, self.lost = force_dt, float(v_max), lost
-        overrides = checks.pair_override_indices(pair_overrides, self._mat_index)
-        self.table = pair_table([self.materials[k] for k in self._mat_names],
-                                k_n=k_n or 0.0, h_c=h_c or 0.0, pipe_length=pipe_length or 0.0,
-                                pipe_resistance=pipe_resistance or 0.0,
-                                pair_overrides=overrides)
         self.rng = np.random.default_rng(seed)
         self.parallel_min_n = int(parallel_min_n)
         self.sort_particles = bool(sort_particles)
@@ -156,7 +155,13 @@ class Simulation(ParticleViews):
         self.log = ContactLogControl()
         self.ids_at_build = np.zeros(0, np.int64)     # particle ids at the last list build
         self.flags = StepFlags()
-        self._dt_rule_applied = bool(dt_checked)
+        self.dt_rule_applied = bool(dt_checked)     # the caller applied the time-step rule
+
+    @property
+    def engine(self):
+        """The compiled engine of this simulation's laws (:func:`gsi.dem.engine.get_engine`),
+        its logging variant while a contact log runs."""
+        return self._engines[self.log.running]
 
     # ------------------------------------------------------------------ state bundles
     def bundles(self):
@@ -164,47 +169,15 @@ class Simulation(ParticleViews):
         return (self.particles, self.pairs, self.plane_state, self.mesh_state,
                 self.wall_contacts)
 
-
-    @property
-    def plane_state(self):
-        """The planes (:data:`gsi.dem.state.Planes`)."""
-        return self.walls.plane_state
-
-    @property
-    def mesh_state(self):
-        """The mesh walls (:data:`gsi.dem.state.Mesh`)."""
-        return self.walls.mesh_state
-
-    @property
-    def planes(self):
-        """The :class:`PlaneWall` handles, in order."""
-        return self.walls.planes
-
-    @property
-    def mesh_walls(self):
-        """The :class:`MeshWall` handles, in order."""
-        return self.walls.mesh_walls
-
-    @property
-    def n_planes(self):
-        return self.walls.n_planes
-
-    def wall_slot(self, wall):
-        """The wall's index among all walls, planes first (as the contact log numbers
-        them)."""
-        return self.walls.slot(wall)
-
     @property
     def material_names(self):
         """Material names in index order (the particle ``type`` and pair-table rows)."""
-        return list(self._mat_names)
+        return list(self.material_set.names)
 
     def material_index(self, name, key="material"):
         """Index of material ``name`` (its value in ``sim.type``); an unknown name is a
         one-line error naming ``key``."""
-        if name not in self._mat_index:
-            raise GsiInputError(f"{key} = {name!r}: unknown material, known: {self._mat_names}")
-        return self._mat_index[name]
+        return self.material_set.index(name, key)
 
     # ------------------------------------------------------------------ particles
     def add_particles(self, x, radius, *, material, v=None, T=None, omega=None):
@@ -228,23 +201,13 @@ class Simulation(ParticleViews):
         numpy.ndarray of int64
             The new particles' ids.
         """
-        x = np.atleast_2d(np.asarray(x, float))
-        k = len(x)
-        if x.shape != (k, 3) or not np.isfinite(x).all():
-            raise GsiInputError(f"particles.x shape {x.shape}: must be (k, 3) finite (m)")
-        r = np.broadcast_to(np.asarray(radius, float), (k,)).copy()
-        if not (r > 0).all():
-            raise GsiInputError(f"particles.radius = {r[~(r > 0)][:3].tolist()}: must be > 0 (m)")
-        if ((x < self.lo) | (x > self.hi)).any():
-            raise GsiInputError("particles.x: some centres lie outside the domain box; "
-                                "enlarge domain or move them")
+        x, r = checks.check_particles(x, radius, self.lo, self.hi)
         t = self.material_index(material, "particles.material")
         mat = self.materials[material]
         ids = self.store.add_spheres(x, r, mtype=t, rho=mat.rho, cp=mat.cp, v=v, T=T,
                                      omega=omega, first_id=self.next_id)
-        self.next_id += k
-        self.flags.need_rebuild = True
-        self.flags.forces_valid = False
+        self.next_id += len(x)
+        self.flags.changed()
         self.flags.dt_checked = False
         return ids
 
@@ -252,10 +215,13 @@ class Simulation(ParticleViews):
         """Hold particles in place (they still feel forces and exchange heat)."""
         self.store.particle["fixed"][self.index(ids)] = 1 if fixed else 0
 
-    def remove_particles(self, mask):
-        """Remove the particles where ``mask`` (n,) is true (not counted as lost); the
-        lists are rebuilt before the next step."""
-        self.store.delete(np.asarray(mask, bool))
+    def remove_particles(self, mask, *, lost=False):
+        """Remove the particles where ``mask`` (n,) is true (counted in ``n_lost`` if
+        ``lost``); the lists are rebuilt before the next step."""
+        mask = np.asarray(mask, bool)
+        if lost:
+            self.n_lost += int(mask.sum())
+        self.store.delete(mask)
         self.flags.need_rebuild = True
 
     # ------------------------------------------------------------------ walls
@@ -266,14 +232,10 @@ class Simulation(ParticleViews):
         -------
         PlaneWall
         """
-        vec3(point, "plane.point")
-        if np.linalg.norm(vec3(normal, "plane.normal")) == 0:
-            raise GsiInputError(f"plane.normal = {normal}: must be non-zero")
         t = self.material_index(material, "plane.material")
-        wall = self.walls.add_plane(self, point, normal, mtype=t, material=material,
+        wall = self.walls.add_plane(point, normal, mtype=t, material=material,
                                     temperature=temperature, velocity=velocity)
-        self.flags.need_rebuild = True        # the plane candidates of the particles
-        self.flags.forces_valid = False
+        self.flags.changed()                  # the plane candidates of the particles
         return wall
 
     def add_mesh_wall(self, vertices, triangles=None, *, material=None, vertex_temperature=None):
@@ -286,9 +248,8 @@ class Simulation(ParticleViews):
         wall = vertices if isinstance(vertices, MeshWall) else MeshWall(
             vertices, triangles, material=material, vertex_temperature=vertex_temperature)
         t = self.material_index(wall.material, "mesh_wall.material")
-        self.walls.add_mesh_wall(self, wall, mtype=t)
-        self.flags.need_rebuild = True
-        self.flags.forces_valid = False
+        self.walls.add_mesh_wall(wall, mtype=t)
+        self.flags.changed()
         return wall
 
     def add_mesh_wall_file(self, path, *, material, scale=1.0, vertex_temperature=None):
@@ -297,13 +258,9 @@ class Simulation(ParticleViews):
                                                      vertex_temperature=vertex_temperature))
 
     def wall_moved(self):
-        """A mesh wall moved between steps (``set_vertices``): rebuild the candidate lists
-        if it moved more than half the skin. The forces of the last step are NOT evaluated
-        again: a force evaluation advances every tangential spring by its increment, so a
-        second one at the same time level would count that increment twice (and a coupled
-        structure's interval boundary would perturb every contact in the DEM). The moved
-        wall enters the next step's force pass: a lag of one DEM step, the staggered
-        scheme's own."""
+        """Rebuild the candidate lists before the next step if a mesh-wall vertex moved
+        more than half the skin since the last build (``set_vertices`` between steps; the
+        step loop asks at every :meth:`step`, see :mod:`gsi.dem.step_loop`)."""
         if self.walls.moved_beyond(0.5 * self.list_skin):
             self.flags.need_rebuild = True
 
@@ -330,34 +287,13 @@ class Simulation(ParticleViews):
     # ------------------------------------------------------------------ checks
     def rayleigh_time(self):
         """min over particles of the Rayleigh time t_R (s) (inf without particles)."""
-        return checks.rayleigh_time_min(self.radius, self.type, self.materials,
-                                         self._mat_names)
+        return self.material_set.rayleigh_time(self.radius, self.type)
 
     def heat_stability(self):
         """max_i dt sum_j H_ij/(m_i c_p,i): the explicit heat update is stable below 1."""
-        if self.heat is None or self.n == 0:
-            return 0.0
-        self._ensure_lists()
-        Hs = self.engine.heat_conductance_sum(*self.bundles(), self.table)
-        return float((self.dt * Hs * self.store.view("mcp_inv")).max())
-
-    def _check_dt(self):
-        if self.n == 0 or self.flags.dt_checked or self._dt_rule_applied:
-            return
-        self.flags.dt_checked = True
-        checks.check_dt(self)
-
-    def _check_heat(self):
-        if self.heat is None:
-            return
-        self.flags.heat_warned = checks.check_heat(self.heat_stability(), self.step_count,
-                                               force=self.force_dt, warned=self.flags.heat_warned)
+        return step_loop.heat_stability(self)
 
     # ------------------------------------------------------------------ neighbour lists
-    def _ensure_lists(self):
-        if self.flags.need_rebuild or not self.flags.built:
-            self.rebuild_lists()
-
     def rebuild_lists(self):
         """Build the neighbour lists now (the step loop does it when a particle or a wall
         vertex moved more than half the skin); the tangential springs carry over."""
@@ -372,77 +308,10 @@ class Simulation(ParticleViews):
         self.n_rebuilds += 1
 
     # ------------------------------------------------------------------ stepping
-    def _prepare(self):
-        self._check_dt()
-        if self.flags.need_rebuild or not self.flags.built:
-            self.rebuild_lists()
-            self._check_heat()
-        if not self.flags.forces_valid:
-            self.engine.compute_forces(self.g, *self.bundles(), self.table)
-            self.flags.forces_valid = True
-
     def step(self, n=1):
-        """Advance ``n`` time steps (inserters run at their due steps)."""
-        if n < 0:
-            raise GsiInputError(f"step n = {n}: must be >= 0")
-        threads = numba.get_num_threads()
-        if self.n < self.parallel_min_n:
-            numba.set_num_threads(1)
-        try:
-            self._step(n)
-        finally:
-            numba.set_num_threads(threads)
-
-    def _step(self, n):
-        remaining = int(n)
-        vmax2 = self.v_max ** 2
-        skip = False
-        while remaining > 0:
-            if not skip:
-                for ins in self.inserters:
-                    ins.maybe_insert()
-            if self.n == 0 and not skip:
-                chunk = min([remaining] + [ins.steps_to_next() for ins in self.inserters])
-                self.advance_idle(chunk)
-                remaining -= chunk
-                continue
-            if skip:
-                self.rebuild_lists()
-                self._check_heat()
-            else:
-                self._prepare()
-            chunk = min([remaining] + [ins.steps_to_next() for ins in self.inserters])
-            if self.radiation is not None:     # applied at T_n over its interval
-                chunk = min(chunk, self.radiation.step_due())
-            self.log.state.ctrl[clog.C_STEP] = self.step_count
-            half_skin2 = (0.5 * self.list_skin) ** 2
-            done, code, info = self.engine.advance(chunk, skip, self.dt, self.g, half_skin2,
-                                                   vmax2, self.lo, self.hi, *self.bundles(),
-                                                   self.table, self.log.state)
-            self.advance_idle(done)
-            remaining -= done
-            skip = self._after_chunk(StepCode(code), info)
-            if self.store.overflow[0]:
-                self.store.overflow[0] = 0
-                warnings.warn(f"more than {MAX_WALL_SLOTS} triangle contacts on one particle; "
-                              "extra ones ignored")
-
-    def _after_chunk(self, code, info):
-        """Act on the engine's stop ``code``; returns whether the next chunk resumes the
-        drifted step (``skip_first_drift``)."""
-        if code == StepCode.REBUILD:
-            return True
-        if code == StepCode.LOG_FULL:          # grow the log, take the sample
-            self.log.grow(self.particles, self.pairs, self.wall_contacts)
-            clog.sample(*self.bundles(), self.log.state)
-        elif code == StepCode.LOST:
-            out = lost_particles(self)
-            self.n_lost += int(out.sum())
-            self.remove_particles(out)
-            return True
-        elif code == StepCode.BLOW_UP:
-            raise blow_up(self, int(info))
-        return False
+        """Advance ``n`` time steps (inserters run at their due steps; the loop:
+        :mod:`gsi.dem.step_loop`)."""
+        step_loop.run(self, n)
 
     def advance_idle(self, k):
         """Count ``k`` steps as done (the clock only; the engine has run them, or there
@@ -460,18 +329,15 @@ class Simulation(ParticleViews):
         """Record every contact from now (t0) until :meth:`stop_contact_log` (t1): every
         ``every`` steps, contacts longer than ``dt_split`` (s) split, ``capacity`` rows
         reserved (see :meth:`gsi.dem.log_control.ContactLogControl.start`)."""
-        self.log.start(self, every=every, dt_split=dt_split, capacity=capacity)
-        self.engine = get_engine(self.contact, self.rolling, self.heat, log=True)
+        self.log.start(self.particles, time=self.time, step_count=self.step_count, dt=self.dt,
+                       heat=self.heat, n_planes=self.n_planes, every=every,
+                       dt_split=dt_split, capacity=capacity)
 
     def stop_contact_log(self):
         """End the log started by :meth:`start_contact_log` (now is t1); returns the
         :class:`gsi.dem.contact_log.ContactLog`."""
-        running = self.log.running
-        try:
-            return self.log.stop(self, self.walls)
-        finally:
-            if running:
-                self.engine = get_engine(self.contact, self.rolling, self.heat)
+        return self.log.stop(self.particles, self.walls, time=self.time, dt=self.dt,
+                             heat=self.heat, table=self.table)
 
     # ------------------------------------------------------------------ diagnostics
     def contact_count(self):

@@ -35,6 +35,11 @@ class StepFlags:
         self.heat_warned = False      # the heat-stability warning was given
         self.built = False            # the neighbour lists have been built once
 
+    def changed(self):
+        """Particles or walls were added: the lists and the forces are out of date."""
+        self.need_rebuild = True
+        self.forces_valid = False
+
     def values(self):
         return [getattr(self, k) for k in self.NAMES]
 

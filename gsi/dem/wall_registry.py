@@ -35,7 +35,7 @@ class Walls:
             return wall.index
         return self.n_planes + wall.index
 
-    def add_plane(self, sim, point, normal, *, mtype: int, material: str, temperature=None,
+    def add_plane(self, point, normal, *, mtype: int, material: str, temperature=None,
                   velocity=(0.0, 0.0, 0.0)) -> PlaneWall:
         """A plane through ``point`` with unit ``normal`` into the domain (material index
         ``mtype``)."""
@@ -51,13 +51,13 @@ class Walls:
         self.store.set_wall_counts(n_planes=self.n_planes + 1)
         self.plane_state = append_plane(self.plane_state, p, nrm / ln, vel, mtype,
                                         None if temperature is None else float(temperature))
-        wall = PlaneWall(sim, self.n_planes, material)
+        wall = PlaneWall(self, self.n_planes, material)
         self.planes.append(wall)
         return wall
 
-    def add_mesh_wall(self, sim, wall: MeshWall, *, mtype: int) -> MeshWall:
+    def add_mesh_wall(self, wall: MeshWall, *, mtype: int) -> MeshWall:
         """Append ``wall``'s vertices and triangles to the mesh state (material index
-        ``mtype``) and attach it to ``sim``."""
+        ``mtype``) and attach the wall to this registry (its data live here)."""
         if not self.mesh_walls:
             self.store.set_wall_counts(slots=MAX_WALL_SLOTS)
         M = self.mesh_state
@@ -84,7 +84,7 @@ class Walls:
         new.vertex_impulse[:v0] = M.vertex_impulse
         new.vertex_heat[:v0] = M.vertex_heat
         self.mesh_state = new
-        wall.attach(sim, widx, v0, t0)
+        wall.attach(self, widx, v0, t0)
         self.mesh_walls.append(wall)
         return wall
 
@@ -105,3 +105,38 @@ class Walls:
         M = self.mesh_state
         return np.array([M.T[M.vertex_wall == w].mean() if (M.vertex_wall == w).any()
                          else 0.0 for w in range(len(M.wall_type))])
+
+
+class WallViews:
+    """Named views of a simulation's walls (``self.walls``, a :class:`Walls`), as
+    :class:`gsi.dem.storage.ParticleViews` offers its particles."""
+
+    @property
+    def plane_state(self):
+        """The planes (:data:`gsi.dem.state.Planes`)."""
+        return self.walls.plane_state
+
+    @property
+    def mesh_state(self):
+        """The mesh walls (:data:`gsi.dem.state.Mesh`)."""
+        return self.walls.mesh_state
+
+    @property
+    def planes(self):
+        """The :class:`PlaneWall` handles, in order."""
+        return self.walls.planes
+
+    @property
+    def mesh_walls(self):
+        """The :class:`MeshWall` handles, in order."""
+        return self.walls.mesh_walls
+
+    @property
+    def n_planes(self):
+        """Number of plane walls."""
+        return self.walls.n_planes
+
+    def wall_slot(self, wall):
+        """The wall's index among all walls, planes first (as the contact log numbers
+        them)."""
+        return self.walls.slot(wall)

@@ -46,8 +46,8 @@ class PlaneWall:
     """An infinite plane wall (see module docstring).  Made by ``Simulation.add_plane``;
     its data are row ``index`` of the simulation's ``plane_state`` bundle."""
 
-    def __init__(self, sim, index, material):
-        self._sim = sim
+    def __init__(self, walls, index, material):
+        self._walls = walls           # the registry holding the state bundle
         self._p = index
         self.material = material
 
@@ -59,54 +59,54 @@ class PlaneWall:
     @property
     def point(self):
         """A point of the plane (m), moves with the velocity."""
-        return self._sim.plane_state.point[self._p].copy()
+        return self._walls.plane_state.point[self._p].copy()
 
     @property
     def normal(self):
         """Unit normal into the domain."""
-        return self._sim.plane_state.normal[self._p].copy()
+        return self._walls.plane_state.normal[self._p].copy()
 
     @property
     def velocity(self):
-        return self._sim.plane_state.velocity[self._p].copy()
+        return self._walls.plane_state.velocity[self._p].copy()
 
     def set_motion(self, velocity=(0.0, 0.0, 0.0)):
         """Translate the plane with ``velocity`` (m/s)."""
-        self._sim.plane_state.velocity[self._p] = vec3(velocity, "plane.velocity")
+        self._walls.plane_state.velocity[self._p] = vec3(velocity, "plane.velocity")
 
     @property
     def temperature(self):
         """Wall temperature or None (adiabatic)."""
-        return float(self._sim.plane_state.T[self._p]) if self._sim.plane_state.has_T[self._p] else None
+        return float(self._walls.plane_state.T[self._p]) if self._walls.plane_state.has_T[self._p] else None
 
     @temperature.setter
     def temperature(self, value):
-        self._sim.plane_state.has_T[self._p] = value is not None
-        self._sim.plane_state.T[self._p] = 0.0 if value is None else float(value)
+        self._walls.plane_state.has_T[self._p] = value is not None
+        self._walls.plane_state.T[self._p] = 0.0 if value is None else float(value)
 
     @property
     def force(self):
         """Force of the particles on the plane at the last step (N)."""
-        return self._sim.plane_state.force[self._p].copy()
+        return self._walls.plane_state.force[self._p].copy()
 
     @property
     def torque(self):
         """Torque of the particles on the plane about ``point`` at the last step (N m)."""
-        return self._sim.plane_state.torque[self._p].copy()
+        return self._walls.plane_state.torque[self._p].copy()
 
     @property
     def impulse_on_particles(self):
         """Accumulated impulse of the plane on the particles (N s)."""
-        return self._sim.plane_state.impulse[self._p].copy()
+        return self._walls.plane_state.impulse[self._p].copy()
 
     @property
     def heat_to_particles(self):
         """Accumulated heat from the plane into the particles (J)."""
-        return float(self._sim.plane_state.heat[self._p])
+        return float(self._walls.plane_state.heat[self._p])
 
     def reset_accumulators(self):
-        self._sim.plane_state.impulse[self._p] = 0.0
-        self._sim.plane_state.heat[self._p] = 0.0
+        self._walls.plane_state.impulse[self._p] = 0.0
+        self._walls.plane_state.heat[self._p] = 0.0
 
 
 class MeshWall:
@@ -148,7 +148,7 @@ class MeshWall:
                                           len(self._x))
         self.material = material
         self._T0 = None if vertex_temperature is None else np.asarray(vertex_temperature, float)
-        self._sim = None
+        self._walls = None
         self._w = None
 
     @classmethod
@@ -173,12 +173,12 @@ class MeshWall:
         return cls(x, inv.reshape(-1, 3), material=material,
                    vertex_temperature=vertex_temperature)
 
-    # ---- after the wall is added to a simulation, the data live in sim.mesh_state
-    def attach(self, sim, index, v0, t0):
-        """Called by the simulation that adds the wall: the wall is its mesh wall
-        ``index``, its vertices and triangles start at rows ``v0`` and ``t0`` of the
-        simulation's mesh state."""
-        self._sim = sim
+    # ---- after the wall is added to a simulation, its data live in the registry's mesh_state
+    def attach(self, walls, index, v0, t0):
+        """Called by the wall registry (:class:`gsi.dem.wall_registry.Walls`) that adds
+        the wall: the wall is its mesh wall ``index``, its vertices and triangles start at
+        rows ``v0`` and ``t0`` of the registry's mesh state."""
+        self._walls = walls
         self._w = index
         self._v0, self._v1 = v0, v0 + len(self._x)
         self._t0, self._t1 = t0, t0 + len(self._t)
@@ -229,15 +229,17 @@ class MeshWall:
     @property
     def vertices(self):
         """Current vertex positions (nv, 3) (m)."""
-        return self._sim.mesh_state.x[self._vs()].copy() if self._sim else self._x.copy()
+        return self._walls.mesh_state.x[self._vs()].copy() if self._walls is not None else self._x.copy()
 
     @property
     def vertex_velocity(self):
-        return self._sim.mesh_state.v[self._vs()].copy()
+        return self._walls.mesh_state.v[self._vs()].copy()
 
     def set_vertices(self, x, v=None):
-        """Replace vertex positions (m) and velocities (m/s; None keeps the current ones)."""
-        s = self._sim
+        """Replace vertex positions (m) and velocities (m/s; None keeps the current ones).
+        The next step sees them; its neighbour lists are rebuilt first if a vertex moved
+        more than half the skin (:meth:`gsi.dem.Simulation.wall_moved`)."""
+        s = self._walls
         x = np.asarray(x, float)
         if x.shape != (self.n_vertices, 3):
             raise GsiInputError(f"wall.set_vertices x shape {x.shape}: must be ({self.n_vertices}, 3)")
@@ -248,12 +250,11 @@ class MeshWall:
                 raise GsiInputError(f"wall.set_vertices v shape {v.shape}: must be ({self.n_vertices}, 3)")
             s.mesh_state.v[self._vs()] = v
         s.mesh_state.wall_rigid[self._w] = 0
-        s.wall_moved()
 
     def set_motion(self, velocity=(0.0, 0.0, 0.0), omega=(0.0, 0.0, 0.0), centre=None):
         """Rigid motion: translation ``velocity`` (m/s), rotation ``omega`` (rad/s) about
         ``centre`` (m; default: the current centre, initially the origin)."""
-        s = self._sim
+        s = self._walls
         s.mesh_state.wall_velocity[self._w] = vec3(velocity, "wall.velocity")
         s.mesh_state.wall_omega[self._w] = vec3(omega, "wall.omega")
         if centre is not None:
@@ -266,16 +267,16 @@ class MeshWall:
     @property
     def centre(self):
         """Reference point of ``torque`` and of the rotation (m)."""
-        return self._sim.mesh_state.wall_centre[self._w].copy()
+        return self._walls.mesh_state.wall_centre[self._w].copy()
 
     @property
     def vertex_temperature(self):
-        s = self._sim
+        s = self._walls
         return s.mesh_state.T[self._vs()].copy() if s.mesh_state.wall_has_T[self._w] else None
 
     @vertex_temperature.setter
     def vertex_temperature(self, value):
-        s = self._sim
+        s = self._walls
         if value is None:
             s.mesh_state.wall_has_T[self._w] = 0
             return
@@ -286,40 +287,40 @@ class MeshWall:
     @property
     def force(self):
         """Force of the particles on the wall at the last step (N)."""
-        return self._sim.mesh_state.wall_force[self._w].copy()
+        return self._walls.mesh_state.wall_force[self._w].copy()
 
     @property
     def torque(self):
         """Torque of the particles on the wall about ``centre`` at the last step (N m)."""
-        return self._sim.mesh_state.wall_torque[self._w].copy()
+        return self._walls.mesh_state.wall_torque[self._w].copy()
 
     @property
     def triangle_force(self):
         """Force of the particles on each triangle at the last step (nt, 3) (N)."""
-        return self._sim.mesh_state.tri_force[self._ts()].copy()
+        return self._walls.mesh_state.tri_force[self._ts()].copy()
 
     @property
     def vertex_impulse(self):
         """Accumulated -F_on_particle w_k dt per vertex (nv, 3) (N s)."""
-        return self._sim.mesh_state.vertex_impulse[self._vs()].copy()
+        return self._walls.mesh_state.vertex_impulse[self._vs()].copy()
 
     @property
     def vertex_heat(self):
         """Accumulated -Q_to_particle w_k dt per vertex (nv,) (J)."""
-        return self._sim.mesh_state.vertex_heat[self._vs()].copy()
+        return self._walls.mesh_state.vertex_heat[self._vs()].copy()
 
     @property
     def impulse_on_particles(self):
         """Accumulated impulse of this wall on the particles (N s)."""
-        return self._sim.mesh_state.wall_impulse[self._w].copy()
+        return self._walls.mesh_state.wall_impulse[self._w].copy()
 
     @property
     def heat_to_particles(self):
         """Accumulated heat from this wall into the particles (J)."""
-        return float(self._sim.mesh_state.wall_heat[self._w])
+        return float(self._walls.mesh_state.wall_heat[self._w])
 
     def reset_accumulators(self):
-        s = self._sim
+        s = self._walls
         s.mesh_state.vertex_impulse[self._vs()] = 0.0
         s.mesh_state.vertex_heat[self._vs()] = 0.0
         s.mesh_state.wall_impulse[self._w] = 0.0

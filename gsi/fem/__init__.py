@@ -9,6 +9,11 @@ in :mod:`gsi.fem.compat`.
 * :class:`~gsi.fem.heat.Heat` -- theta-scheme conduction with fixed temperature, flux,
   convection by tag and nodal heat loads.
 * :class:`~gsi.fem.thermoelastic.ThermoElastic` -- heat then elasticity each step.
+* What the problems share: :class:`~gsi.fem.problem.Problem` (solver, time, nodal loads,
+  ``state()``/``set_state()``), :class:`~gsi.fem.dirichlet.Dirichlet` (prescribed values
+  by tag), :mod:`~gsi.fem.solvers` (direct, out-of-core, iterative); the elasticity's time
+  scheme :mod:`~gsi.fem.newmark`, the heat problem's surface conditions
+  :class:`~gsi.fem.heat_boundary.HeatBoundary` and stability bounds :mod:`~gsi.fem.heat_bounds`.
 * :class:`~gsi.fem.surface.ContactSurface` -- the tagged surface(s) as triangles, gathered
   on every rank; loads and heat scattered to the owning ranks (the coupling's
   :class:`gsi.coupling.interface.SurfaceInterface` builds the DEM wall on it).

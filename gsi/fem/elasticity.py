@@ -41,15 +41,15 @@ from __future__ import annotations
 import numpy as np
 import ufl
 from mpi4py import MPI
-from petsc4py import PETSc
 
 from gsi.errors import GsiInputError
 
 from . import compat
+from .newmark import SCHEMES, Newmark, check_scheme, newmark_parameters
 from .problem import Problem
 from .solvers import rigid_body_modes
 
-SCHEMES = ("static", "newmark", "generalized_alpha")
+__all__ = ["Elasticity", "SCHEMES", "newmark_parameters", "epsilon", "sigma_mech", "von_mises"]
 
 
 def epsilon(u):
@@ -66,20 +66,6 @@ def von_mises(s):
     """von Mises equivalent stress sqrt(3/2 s_dev : s_dev) (Pa)."""
     s_dev = s - ufl.tr(s) / 3.0 * ufl.Identity(3)
     return ufl.sqrt(1.5 * ufl.inner(s_dev, s_dev))
-
-
-def newmark_parameters(scheme: str, rho_inf: float = 1.0) -> dict:
-    """alpha_m, alpha_f, beta, gamma of the named scheme."""
-    if scheme == "newmark":
-        return dict(alpha_m=0.0, alpha_f=0.0, beta=0.25, gamma=0.5)
-    if scheme == "generalized_alpha":
-        if not 0.0 <= rho_inf <= 1.0:
-            raise GsiInputError(f"structure.rho_inf = {rho_inf!r}: must be in [0, 1]")
-        am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
-        af = rho_inf / (rho_inf + 1.0)
-        return dict(alpha_m=am, alpha_f=af, beta=0.25 * (1.0 - am + af) ** 2,
-                    gamma=0.5 - am + af)
-    raise GsiInputError(f"structure.scheme = {scheme!r}: must be one of {list(SCHEMES)}")
 
 
 class Elasticity(Problem):
@@ -106,21 +92,10 @@ class Elasticity(Problem):
         Body acceleration (m/s^2); default none.
     T_ref : float
         Stress-free temperature (K or degC, as the temperatures given).
-    factorization : {"lu", "cholesky"}
-        MUMPS factorization of the effective matrix (direct solver).
-    solver : {"auto", "direct", "out_of_core", "iterative"}
-        Linear solver: MUMPS factorized once, the same with the factor on disk (MUMPS
-        Cholesky, any number of ranks), CG + GAMG (rigid-body near-nullspace) with the
-        hierarchy built once and a warm start, or by size ("auto": out of core from
+    factorization, solver, petsc_options, rtol, options_key
+        The linear solver (:class:`gsi.fem.problem.Problem`; the iterative one here is
+        CG + GAMG with the rigid-body near-nullspace; "auto" goes out of core from
         ``gsi.fem.options.AUTO_LARGE_DOFS["elasticity"]`` dofs on).
-    petsc_options : dict, optional
-        PETSc options without the leading dash (e.g. ``{"ksp_rtol": 1e-12}``), applied
-        under this problem's own options prefix; they override gsi's defaults.
-    rtol : float, optional
-        Iterative solver: the residual falls to rtol times that of the warm start (default
-        ``gsi.fem.options.ITERATIVE_RTOL``; ``ksp_rtol`` in ``petsc_options`` overrides it).
-    options_key : str
-        TOML key of ``petsc_options`` named by errors (e.g. ``structures[0].petsc``).
 
     Notes
     -----
@@ -140,12 +115,7 @@ class Elasticity(Problem):
                  options_key: str = "structure.petsc", rtol: float | None = None):
         if degree not in (1, 2):
             raise GsiInputError(f"structure.degree = {degree!r}: must be 1 or 2")
-        if scheme not in SCHEMES:
-            raise GsiInputError(f"structure.scheme = {scheme!r}: must be one of {list(SCHEMES)}")
-        if scheme != "static" and not (dt is not None and np.isfinite(dt) and dt > 0):
-            raise GsiInputError(f"structure.dt = {dt!r}: must be > 0 (s) for scheme {scheme!r}")
-        if len(rayleigh) != 2 or min(rayleigh) < 0:
-            raise GsiInputError(f"structure.rayleigh = {rayleigh!r}: must be two numbers >= 0 (a0 1/s, a1 s)")
+        check_scheme(scheme, dt, rayleigh)
         self._init_problem(structure, material, factorization=factorization, solver=solver,
                            petsc_options=petsc_options, options_key=options_key, rtol=rtol)
         mesh = self.mesh
@@ -165,9 +135,7 @@ class Elasticity(Problem):
         self.tractions = {name: compat.constant(mesh, np.zeros(3))
                           for name in structure.tags if name != "volume"}
         self._init_loads()
-        self._bc_specs: list[tuple[str, tuple, np.ndarray]] = []
-        self.bcs = []
-        self._bc_dofs_by_tag: dict[str, np.ndarray] = {}
+        self.newmark = Newmark(self.params, dt, self.rayleigh) if scheme != "static" else None
 
     # ------------------------------------------------------------------ set-up API
     def clamp(self, tag: str, *, components=None, value=None) -> None:
@@ -183,7 +151,7 @@ class Elasticity(Problem):
             Prescribed displacement per constrained component (m); default 0.
         """
         self._check_not_set_up("clamp")
-        tag_value = self.structure.facet_tag(tag)
+        self.structure.facet_tag(tag)
         comps = (0, 1, 2) if components is None else tuple(int(c) for c in components)
         if not comps or any(c not in (0, 1, 2) for c in comps) or len(set(comps)) != len(comps):
             raise GsiInputError(f"structure.supports.{tag}.components = {components!r}: "
@@ -192,18 +160,7 @@ class Elasticity(Problem):
         if val.size != len(comps):
             raise GsiInputError(f"structure.supports.{tag}.value = {value!r}: must have "
                                 f"{len(comps)} entries (m)")
-        self._bc_specs.append((tag, comps, val))
-        facets = compat.meshtag_find(self.structure.facet_tags, tag_value)
-        fdim = self.mesh.topology.dim - 1
-        owned = []
-        for c, vc in zip(comps, val):
-            Vc = self.V.sub(c)
-            dofs = compat.locate_dofs_topological(Vc, fdim, facets)
-            bc = compat.dirichletbc(PETSc.ScalarType(vc), dofs, Vc)
-            self.bcs.append(bc)
-            owned.append(compat.bc_dofs_owned(bc))
-        prev = self._bc_dofs_by_tag.get(tag, np.zeros(0, dtype=np.int64))
-        self._bc_dofs_by_tag[tag] = np.unique(np.concatenate([prev] + owned))
+        self.dirichlet.prescribe(tag, self.V, val, components=comps)
 
     def set_traction(self, tag: str, traction) -> None:
         """Uniform surface traction on ``tag`` (Pa), vector (3,); may change every step."""
@@ -227,26 +184,14 @@ class Elasticity(Problem):
             compat.interpolate_function(self.T, T)
         compat.scatter_forward(self.T)
 
-    def add_nodal_loads(self, global_ids, forces) -> None:
-        """Add point forces (n, 3) (N) at mesh vertices given by global vertex ids (n,).
-
-        Global vertex id = gmsh node tag - 1 (``mesh.geometry.input_global_indices``).
-        The forces act from the next solve/step on, until :meth:`clear_nodal_loads`.
-        Every rank keeps the loads at the vertices it owns (see ``NodalLoads.add``).
-        """
-        self.nodal.add(global_ids, forces)
-
-    def clear_nodal_loads(self) -> None:
-        self.nodal.clear()
-
     @property
     def supports(self) -> tuple[str, ...]:
         """Tags with a prescribed displacement (:meth:`clamp`), in the order given."""
-        return tuple(dict.fromkeys(tag for tag, _, _ in self._bc_specs))
+        return self.dirichlet.tags
 
     def has_prescribed_motion(self) -> bool:
         """True if some support prescribes a nonzero displacement (local, no MPI call)."""
-        return any(np.any(v) for _, _, v in self._bc_specs)
+        return self.dirichlet.moves()
 
     # ------------------------------------------------------------------ assembly
     def _check_not_set_up(self, what: str) -> None:
@@ -268,50 +213,23 @@ class Elasticity(Problem):
         ds = compat.measure("ds", self.mesh, self.structure.facet_tags)
         k_form = ufl.inner(sigma_mech(u, mu, lmbda), epsilon(w)) * dx
         m_form = rho * ufl.inner(u, w) * dx
-        if self.scheme == "static":
-            c_M, c_K = 0.0, 1.0
-        else:
-            p, dt = self.params, self.dt
-            a0, a1 = self.rayleigh
-            c0 = 1.0 / (p["beta"] * dt**2)
-            c4 = p["gamma"] / (p["beta"] * dt)
-            c_M = (1.0 - p["alpha_m"]) * c0 + (1.0 - p["alpha_f"]) * c4 * a0
-            c_K = (1.0 - p["alpha_f"]) * (1.0 + c4 * a1)
+        c_M, c_K = (0.0, 1.0) if self.newmark is None else self.newmark.matrix_weights()
         a_eff = c_K * k_form if c_M == 0.0 else c_M * m_form + c_K * k_form
         f_form = ufl.inner(rho * self.g, w) * dx \
             + kappa * (self.T - self.T_ref) * ufl.div(w) * dx
         for name, t in self.tractions.items():
             f_form += ufl.inner(t, w) * ds(self.structure.tags[name])
         self._a_eff = compat.form(a_eff)
-        self._f = compat.form(f_form)
         self._K = compat.assemble_matrix(compat.form(k_form))
         self._M = compat.assemble_matrix(compat.form(m_form)) if self.scheme != "static" else None
         A = compat.assemble_matrix(self._a_eff, self.bcs)
         self._A = A
-        self._b = compat.create_vector(self._f)
-        self._F = self._b.duplicate()            # f_{n+1} (owned values)
+        self._init_vectors(compat.form(f_form), self._a_eff)
         self._F_old = self._b.duplicate()        # f_n
         self._F_old.set(0.0)
-        self._tmp = self._b.duplicate()
         self._wM = self._b.duplicate()
         self._wK = self._b.duplicate()
-        self._lift = compat.create_vector(self._f)   # -A g (constant Dirichlet values)
-        with self._lift.localForm() as loc:
-            loc.set(0.0)
-        compat.apply_lifting_and_accumulate(self._lift, self._a_eff, self.bcs)
         self._make_solver(A, near_nullspace=lambda: rigid_body_modes(self.V, A))
-        self._sigma_expr = None
-
-    def _assemble_load(self, out: PETSc.Vec) -> None:
-        """out <- f (traction + body + thermal + nodal), owned values, no Dirichlet rows."""
-        compat.assemble_vector_ghosted(out, self._f)
-        out.array[:] += self.nodal.values
-
-    def load_vector(self) -> PETSc.Vec:
-        """The current external load vector f (N), before Dirichlet rows are set."""
-        self._setup()
-        self._assemble_load(self._F)
-        return self._F
 
     def load_sum(self) -> np.ndarray:
         """Sum over all vertices of the assembled load vector per component (N), (3,)."""
@@ -341,48 +259,29 @@ class Elasticity(Problem):
         if self.scheme == "static":
             raise GsiInputError("structure.scheme = 'static': call solve(), not step()")
         self._setup()
-        p, dt = self.params, self.dt
-        am, af, beta, gamma = p["alpha_m"], p["alpha_f"], p["beta"], p["gamma"]
-        a0, a1 = self.rayleigh
-        c0, c1, c2 = 1.0 / (beta * dt**2), 1.0 / (beta * dt), 0.5 / beta - 1.0
-        c4, c5, c6 = gamma / (beta * dt), gamma / beta - 1.0, dt * (0.5 * gamma / beta - 1.0)
+        af = self.params["alpha_f"]
         un, vn, an = (compat.petsc_vec(f) for f in (self.u, self.v, self.a))
         u_old = self.u.x.array.copy()
         v_old = self.v.x.array.copy()
         a_old = self.a.x.array.copy()
-        # w_M = (1-am)(c0 u + c1 v + c2 a) - am a ; w_C = (1-af)(c4 u + c5 v + c6 a) - af v
-        wM, wK, tmp = self._wM, self._wK, self._tmp
-        wM.array[:] = 0.0
-        wM.axpy((1.0 - am) * c0, un)
-        wM.axpy((1.0 - am) * c1, vn)
-        wM.axpy((1.0 - am) * c2 - am, an)
-        # C w_C = a0 M w_C + a1 K w_C: w_C goes to tmp
-        tmp.array[:] = 0.0
-        tmp.axpy((1.0 - af) * c4, un)
-        tmp.axpy((1.0 - af) * c5 - af, vn)
-        tmp.axpy((1.0 - af) * c6, an)
-        wM.axpy(a0, tmp)
-        wK.array[:] = 0.0
-        wK.axpy(a1, tmp)
-        wK.axpy(-af, un)
+        tmp = self._tmp
+        self.newmark.history(un, vn, an, self._wM, self._wK, tmp)
         self._assemble_load(self._F)
         b = self._b
         b.array[:] = (1.0 - af) * self._F.array + af * self._F_old.array
-        self._M.mult(wM, tmp)
+        self._M.mult(self._wM, tmp)
         b.axpy(1.0, tmp)
-        self._K.mult(wK, tmp)
+        self._K.mult(self._wK, tmp)
         b.axpy(1.0, tmp)
         b.axpy(1.0, self._lift)
         compat.set_bc(b, self.bcs)
         self._solver.solve(b, un)
         compat.scatter_forward(self.u)
         # Newmark updates (local arrays incl. ghosts, all consistent)
-        u_new = self.u.x.array
-        a_new = c0 * (u_new - u_old) - c1 * v_old - c2 * a_old
-        self.v.x.array[:] = v_old + dt * ((1.0 - gamma) * a_old + gamma * a_new)
-        self.a.x.array[:] = a_new
+        self.v.x.array[:], self.a.x.array[:] = self.newmark.update(self.u.x.array, u_old,
+                                                                   v_old, a_old)
         self._F.copy(self._F_old)
-        self.advance_time(dt)
+        self.advance_time(self.dt)
         return self.u
 
     # ------------------------------------------------------------------ state
@@ -411,13 +310,7 @@ class Elasticity(Problem):
         over the constrained dofs of ``tag`` (all supports if None). It is the force the
         supports exert on the structure."""
         self._setup()
-        if tag is None:
-            dofs = np.unique(np.concatenate([np.zeros(0, np.int64)] + list(self._bc_dofs_by_tag.values())))
-        else:
-            if tag not in self._bc_dofs_by_tag:
-                raise GsiInputError(f"structure.reaction tag = {tag!r}: must be a clamped tag "
-                                    f"{sorted(self._bc_dofs_by_tag)}")
-            dofs = self._bc_dofs_by_tag[tag]
+        dofs = self.dirichlet.dofs(tag, key="structure.reaction tag")
         r = self._tmp
         self._K.mult(compat.petsc_vec(self.u), r)
         res = r.array.copy()

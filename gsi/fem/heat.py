@@ -61,7 +61,6 @@ from __future__ import annotations
 
 
 import numpy as np
-import scipy.constants
 import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -69,7 +68,8 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError
 
 from . import compat
-from .heat_bounds import eigenvalue_bound, facet_factor
+from .heat_boundary import HeatBoundary, refuse_after_set_up
+from .heat_bounds import check_explicit_step, check_options, eigenvalue_bound, stable_dt
 from .problem import Problem
 
 
@@ -90,20 +90,10 @@ class Heat(Problem):
         Uniform initial temperature (K or degC).
     degree : int
         Lagrange degree 1 or 2.
-    factorization : {"lu", "cholesky"}
-        MUMPS factorization (direct solver).
-    solver : {"auto", "direct", "out_of_core", "iterative"}
-        Linear solver: MUMPS factorized once, the same with the factor on disk (MUMPS
-        Cholesky, any number of ranks), CG + algebraic multigrid built once with a warm
-        start, or by size ("auto": iterative from
+    factorization, solver, petsc_options, rtol, options_key
+        The linear solver (:class:`gsi.fem.problem.Problem`; the iterative one here is CG
+        + algebraic multigrid; "auto" is iterative from
         ``gsi.fem.options.AUTO_LARGE_DOFS["heat"]`` dofs on).
-    petsc_options : dict, optional
-        PETSc options without the leading dash, under this problem's own prefix.
-    rtol : float, optional
-        Iterative solver: the residual falls to rtol times that of the warm start (default
-        ``gsi.fem.options.ITERATIVE_RTOL``; ``ksp_rtol`` in ``petsc_options`` overrides it).
-    options_key : str
-        TOML key of ``petsc_options`` named by errors.
     theta_key : str
         Key named by the stability error (e.g. ``structures[0].thermal.theta``).
 
@@ -119,15 +109,7 @@ class Heat(Problem):
                  solver: str = "auto", petsc_options: dict | None = None,
                  options_key: str = "structure.petsc", rtol: float | None = None,
                  theta_key: str = "structure.heat.theta"):
-        if not (dt is not None and np.isfinite(dt) and dt > 0):
-            raise GsiInputError(f"structure.heat.dt = {dt!r}: must be > 0 (s)")
-        if not 0.0 <= theta <= 1.0:
-            raise GsiInputError(f"{theta_key} = {theta!r}: must be in [0, 1]")
-        if degree not in (1, 2):
-            raise GsiInputError(f"structure.heat.degree = {degree!r}: must be 1 or 2")
-        if theta < 0.5 and degree != 1:
-            raise GsiInputError(f"{theta_key} = {theta!r}: below 0.5 (explicit) needs degree 1 "
-                                f"(its stability bound is for P1); use degree = 1 or theta >= 0.5")
+        check_options(dt, theta, degree, theta_key)
         self.theta_key = theta_key
         self._init_problem(structure, material, factorization=factorization, solver=solver,
                            petsc_options=petsc_options, options_key=options_key, rtol=rtol)
@@ -137,15 +119,10 @@ class Heat(Problem):
         self.T = compat.function(self.V, "temperature")
         self.T.x.array[:] = float(T_initial)
         self.T_old = compat.function(self.V, "temperature_old")
-        names = [n for n in structure.tags if n != "volume"]
-        self.h = {n: 0.0 for n in names}
-        self.T_amb = {n: compat.constant(mesh, 0.0) for n in names}
-        self.q = {n: compat.constant(mesh, 0.0) for n in names}
-        self.radiation = {}          # tag -> (emissivity, T_ambient Constant)
-        self.source = compat.constant(mesh, 0.0)
+        #: convection, flux, radiation and source (:class:`gsi.fem.heat_boundary.HeatBoundary`)
+        self.boundary = HeatBoundary(structure, mesh)
+        self.radiation = self.boundary.radiation      # tag -> (emissivity, T_ambient)
         self._init_loads()
-        self.bcs = []
-        self._bc_dofs_by_tag: dict[str, np.ndarray] = {}
         #: the :class:`gsi.fem.contact_heat.ContactHeatSystem` that steps this body (None:
         #: it steps alone)
         self.contact_system = None
@@ -156,84 +133,46 @@ class Heat(Problem):
     # ------------------------------------------------------------------ set-up API
     def _check_not_set_up(self, what):
         if self.is_set_up:
-            raise GsiInputError(f"structure.heat.{what}: must be set before the first step "
-                                "(the matrix is factorized once)")
+            refuse_after_set_up(what)
 
     def fix_temperature(self, tag: str, T: float) -> None:
         """Dirichlet: temperature ``T`` on surface ``tag`` (K or degC)."""
         self._check_not_set_up("fixed_temperature")
-        tv = self.structure.facet_tag(tag)
-        facets = compat.meshtag_find(self.structure.facet_tags, tv)
-        dofs = compat.locate_dofs_topological(self.V, self.mesh.topology.dim - 1, facets)
-        bc = compat.dirichletbc(PETSc.ScalarType(T), dofs, self.V)
-        self.bcs.append(bc)
-        self._bc_dofs_by_tag[tag] = compat.bc_dofs_owned(bc)
+        self.dirichlet.prescribe(tag, self.V, T)
 
     def set_convection(self, tag: str, h: float, T_ambient: float) -> None:
         """Convection on ``tag``: flux out h (T - T_ambient); h in W/(m^2 K).
 
         h is fixed at the first step; T_ambient may change later."""
-        self.structure.facet_tag(tag)
-        if not (np.isfinite(h) and h >= 0):
-            raise GsiInputError(f"structure.heat.convection.{tag}.h = {h!r}: must be >= 0 (W/(m^2 K))")
-        if self.is_set_up and h != self.h[tag]:
-            self._check_not_set_up(f"convection.{tag}.h")
-        self.h[tag] = float(h)
-        self.T_amb[tag].value = float(T_ambient)
+        self.boundary.set_convection(tag, h, T_ambient, set_up=self.is_set_up)
 
     def set_flux(self, tag: str, q: float) -> None:
         """Prescribed heat flux into the body through ``tag`` (W/m^2); may change every step."""
-        self.structure.facet_tag(tag)
-        self.q[tag].value = float(q)
+        self.boundary.set_flux(tag, q)
 
     def set_radiation(self, tag: str, emissivity: float, T_ambient: float) -> None:
         """Radiation out through ``tag``: flux eps sigma (T^4 - T_ambient^4) (W/m^2), T in K,
         explicit in T (module docstring). The emissivity is fixed at the first step;
         T_ambient may change later."""
-        self.structure.facet_tag(tag)
-        if not (np.isfinite(emissivity) and 0.0 < emissivity <= 1.0):
-            raise GsiInputError(f"structure.heat.radiation.{tag}.emissivity = {emissivity!r}: "
-                                "must be in (0, 1]")
-        if not (np.isfinite(T_ambient) and T_ambient >= 0.0):
-            raise GsiInputError(f"structure.heat.radiation.{tag}.T_ambient = {T_ambient!r}: "
-                                "must be >= 0 (K)")
-        if tag in self.radiation:
-            if self.is_set_up and emissivity != self.radiation[tag][0]:
-                self._check_not_set_up(f"radiation.{tag}.emissivity")
-            self.radiation[tag][1].value = float(T_ambient)
-            return
-        self._check_not_set_up(f"radiation.{tag}")
-        self.radiation[tag] = (float(emissivity), compat.constant(self.mesh, float(T_ambient)))
+        self.boundary.set_radiation(tag, emissivity, T_ambient, set_up=self.is_set_up)
 
     def set_source(self, s: float) -> None:
         """Uniform volumetric heat source (W/m^3)."""
-        self.source.value = float(s)
+        self.boundary.source.value = float(s)
 
-    def add_nodal_heat(self, global_ids, Q) -> None:
-        """Add heat loads ``Q`` (n,) (W, into the body) at global vertex ids (n,)."""
-        self.nodal.add(global_ids, Q)
-
-    def clear_nodal_heat(self) -> None:
-        self.nodal.clear()
+    #: add heat loads Q (n,) (W, into the body) at global vertex ids (n,)
+    add_nodal_heat = Problem.add_nodal_loads
+    clear_nodal_heat = Problem.clear_nodal_loads
 
     @property
     def fixed_tags(self) -> tuple[str, ...]:
         """Tags with a fixed temperature (:meth:`fix_temperature`)."""
-        return tuple(self._bc_dofs_by_tag)
+        return self.dirichlet.tags
 
     def exchange_tags(self) -> list[str]:
         """Tags through which heat can cross the boundary: convection (h > 0), a nonzero
-        prescribed flux, or a fixed temperature (the others are insulated)."""
-        return [n for n in self.h if self.h[n] > 0.0 or self.q[n].value != 0.0
-                or n in self._bc_dofs_by_tag or n in self.radiation]
-
-    def volume(self) -> float:
-        """Volume of the body (m^3) (collective; computed once)."""
-        if getattr(self, "_volume", None) is None:
-            self._volume = compat.assemble_scalar(
-                compat.form(compat.constant(self.mesh, 1.0) * compat.measure("dx", self.mesh)),
-                self.comm)
-        return self._volume
+        prescribed flux, radiation, or a fixed temperature (the others are insulated)."""
+        return self.boundary.exchange_tags(self.dirichlet.tags)
 
     def mean_temperature(self) -> float:
         """Volume mean of the temperature, int rho c T dx / (rho c V) (collective)."""
@@ -251,80 +190,39 @@ class Heat(Problem):
         T, w = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         dx = compat.measure("dx", self.mesh)
         ds = compat.measure("ds", self.mesh, self.structure.facet_tags)
-        tags = self.structure.tags
         self._ds = ds
         c_form = rho_c * T * w * dx
-        k_form = k * ufl.inner(ufl.grad(T), ufl.grad(w)) * dx
-        for n, h in self.h.items():
-            if h > 0.0:
-                k_form += compat.constant(self.mesh, h) * T * w * ds(tags[n])
-        f_form = self.source * w * dx
-        for n in self.h:
-            f_form += self.q[n] * w * ds(tags[n])
-            if self.h[n] > 0.0:
-                f_form += compat.constant(self.mesh, self.h[n]) * self.T_amb[n] * w * ds(tags[n])
-        for n, (eps, T_amb) in self.radiation.items():
-            f_form += self._radiation_flux(n) * w * ds(tags[n])
+        k_form = self.boundary.add_matrix_terms(
+            k * ufl.inner(ufl.grad(T), ufl.grad(w)) * dx, T, w, ds)
+        f_form = self.boundary.add_load_terms(self.boundary.source * w * dx, w, ds, self.T_old)
         theta, dt = self.theta, self.dt
         self.check_stability()
         a_form = (1.0 / dt) * c_form if theta == 0.0 else (1.0 / dt) * c_form + theta * k_form
         self._a = compat.form(a_form)
         self._C = compat.assemble_matrix(compat.form(c_form))
         self._Kmat = compat.assemble_matrix(compat.form(k_form))
-        self._f = compat.form(f_form)
         self._A = compat.assemble_matrix(self._a, self.bcs)
-        self._b = compat.create_vector(self._f)
-        self._F = self._b.duplicate()
-        self._tmp = self._b.duplicate()
-        self._lift = compat.create_vector(self._f)
-        with self._lift.localForm() as loc:
-            loc.set(0.0)
-        compat.apply_lifting_and_accumulate(self._lift, self._a, self.bcs)
+        self._init_vectors(compat.form(f_form), self._a)
         self._make_solver(self._A)
-
-    def _radiation_flux(self, tag):
-        """eps sigma (T_amb^4 - T_n^4): the radiative flux into the body over the step
-        (UFL; T_n is T_old, which begin_step sets before assembling)."""
-        eps, T_amb = self.radiation[tag]
-        es = compat.constant(self.mesh, eps * scipy.constants.Stefan_Boltzmann)
-        return es * (T_amb ** 4 - self.T_old ** 4)
 
     def radiation_heat_flow(self, tag: str) -> float:
         """Radiative heat flow into the body through ``tag`` over the last step (W), as the
         step applied it (evaluated at its T_n; collective)."""
         self._setup()
-        if not hasattr(self, "_rad_forms"):
-            self._rad_forms = {}
-        if tag not in self._rad_forms:
-            self._rad_forms[tag] = compat.form(
-                self._radiation_flux(tag) * self._ds(self.structure.tags[tag]))
-        return compat.assemble_scalar(self._rad_forms[tag], self.comm)
+        return self.integral(("radiation", tag), lambda: self.boundary.radiation_flux(
+            tag, self.T_old) * self._ds(self.structure.tags[tag]))
 
     def check_radiation_step(self) -> None:
         """Refuse a step with dt lambda_rad > 1 (module docstring; collective)."""
-        if not self.radiation:
-            return
-        if not hasattr(self, "_rad_factor"):
-            self._rad_factor = {n: self.comm.allreduce(facet_factor(
-                self.mesh, self.structure, n, self.material), op=MPI.MAX)
-                                for n in self.radiation}
-        T_max = max(self.min_max()[1], max(T.value for _, T in self.radiation.values()))
-        for n, (eps, _) in self.radiation.items():
-            lam = 4.0 * eps * scipy.constants.Stefan_Boltzmann * T_max ** 3 * self._rad_factor[n]
-            if self.dt * lam > 1.0:
-                raise GsiInputError(
-                    f"structure.heat.radiation.{n}: the step dt = {self.dt:.4g} s is above the "
-                    f"explicit radiation limit 1/lambda = {1.0 / lam:.4g} s at T_max = "
-                    f"{T_max:.4g} K; lower dt (structures[].contact.n_sub)")
+        if self.radiation:
+            self.boundary.check_radiation_step(self.dt, self.min_max()[1], self.material,
+                                               self.comm)
 
     def stable_dt(self) -> float:
         """Largest stable step (s) of the theta-scheme for theta < 1/2 (inf for theta >=
         1/2): 2/((1 - 2 theta) lambda), lambda the element bound of the module docstring
         (P1 cells, convection included; collective)."""
-        if self.theta >= 0.5:
-            return np.inf
-        lam = self.eigenvalue_bound()
-        return 2.0 / ((1.0 - 2.0 * self.theta) * lam) if lam > 0 else np.inf
+        return np.inf if self.theta >= 0.5 else stable_dt(self.theta, self.eigenvalue_bound())
 
     def eigenvalue_bound(self) -> float:
         """Upper bound (1/s) of the largest eigenvalue of C^-1 K (module docstring; P1
@@ -332,24 +230,14 @@ class Heat(Problem):
         if compat.geometry_dofmap(self.mesh).shape[1] != self.mesh.topology.dim + 1:
             raise GsiInputError(f"{self.theta_key} = {self.theta!r}: the explicit stability "
                                 "bound needs straight P1 simplices (this mesh has curved cells)")
-        local = eigenvalue_bound(self.mesh, self.structure, self.material, self.h)
+        local = eigenvalue_bound(self.mesh, self.structure, self.material, self.boundary.h)
         return self.comm.allreduce(local, op=MPI.MAX)
 
     def check_stability(self) -> None:
         """Refuse (GsiInputError naming ``theta_key``) a theta < 1/2 step above
         :meth:`stable_dt` (collective; nothing to check for theta >= 1/2)."""
-        if self.theta >= 0.5:
-            return
-        limit = self.stable_dt()
-        if self.dt > limit:
-            raise GsiInputError(
-                f"{self.theta_key} = {self.theta:g}: the step dt = {self.dt:.4g} s is above the "
-                f"explicit stability limit {limit:.4g} s (2/((1 - 2 theta) lambda_max), P1 "
-                f"element bound); lower dt or use theta >= 0.5")
-
-    def _assemble_load(self, out):
-        compat.assemble_vector_ghosted(out, self._f)
-        out.array[:] += self.nodal.values
+        if self.theta < 0.5:
+            check_explicit_step(self.dt, self.theta, self.stable_dt(), self.theta_key)
 
     def step(self):
         """Advance one step dt; returns the temperature Function."""
@@ -397,10 +285,15 @@ class Heat(Problem):
         self._setup()
         return self._A
 
+    def matrices(self) -> tuple[PETSc.Mat, PETSc.Mat]:
+        """The capacity matrix C and the conduction + convection matrix K, without
+        Dirichlet conditions (assembled once)."""
+        self._setup()
+        return self._C, self._Kmat
+
     def bc_dofs(self) -> np.ndarray:
         """Owned dofs with a fixed temperature (local indices)."""
-        return np.unique(np.concatenate([np.zeros(0, np.int32)]
-                                        + list(self._bc_dofs_by_tag.values()))).astype(np.int64)
+        return self.dirichlet.dofs()
 
     def capacity_row_sums(self) -> np.ndarray:
         """Row sums of the capacity matrix C at the owned dofs, int rho c N_i dx (J/K)."""
@@ -425,10 +318,7 @@ class Heat(Problem):
         step: the residual C (T_{n+1} - T_n)/dt + K T_theta - F at those dofs (consistent
         with the discrete energy balance)."""
         self._setup()
-        if tag is None:
-            dofs = np.unique(np.concatenate([np.zeros(0, np.int64)] + list(self._bc_dofs_by_tag.values())))
-        else:
-            dofs = self._bc_dofs_by_tag[tag]
+        dofs = self.dirichlet.dofs(tag, key="structure.heat.dirichlet_heat_flow tag")
         theta, dt = self.theta, self.dt
         Tn1 = self.T.x.array.copy()
         dT = compat.function(self.V)
@@ -450,18 +340,11 @@ class Heat(Problem):
         int q + h (T_ambient - T) ds on the others (0 on insulated tags). Nodal heat loads
         are not included (see :meth:`nodal_heat`)."""
         self._setup()
-        if tag in self._bc_dofs_by_tag:
+        if tag in self.dirichlet.tags:
             return self.dirichlet_heat_flow(tag)
         self.structure.facet_tag(tag)
-        if not hasattr(self, "_bflux_forms"):
-            self._bflux_forms = {}
-        if tag not in self._bflux_forms:
-            ds = self._ds(self.structure.tags[tag])
-            expr = self.q[tag] * ds
-            if self.h[tag] > 0.0:
-                expr += compat.constant(self.mesh, self.h[tag]) * (self.T_amb[tag] - self.T) * ds
-            self._bflux_forms[tag] = compat.form(expr)
-        return compat.assemble_scalar(self._bflux_forms[tag], self.comm)
+        return self.integral(("boundary flow", tag),
+                             lambda: self.boundary.flow_form(tag, self.T, self._ds))
 
     def nodal_heat(self) -> float:
         """Total of the nodal heat loads currently applied (W)."""
@@ -471,21 +354,16 @@ class Heat(Problem):
         """Conductive heat flow into the body through surface ``tag``, int k grad T . n ds
         (W), from the gradient of the discrete field (first order on P1)."""
         self._setup()
-        if not hasattr(self, "_flux_forms"):
-            n = ufl.FacetNormal(self.mesh)
-            self._flux_forms = {
-                name: compat.form(self._k * ufl.dot(ufl.grad(self.T), n) * self._ds(v))
-                for name, v in self.structure.tags.items() if name != "volume"}
-        return compat.assemble_scalar(self._flux_forms[tag], self.comm)
+        v = self.structure.tags[tag]
+        return self.integral(("surface flow", tag), lambda: self._k * ufl.dot(
+            ufl.grad(self.T), ufl.FacetNormal(self.mesh)) * self._ds(v))
 
     def stored_heat(self) -> float:
         """int rho c T dx (J) relative to T = 0."""
         self._setup()
-        if not hasattr(self, "_energy_form"):
-            m = self.material
-            self._energy_form = compat.form(
-                compat.constant(self.mesh, m.rho * m.c) * self.T * compat.measure("dx", self.mesh))
-        return compat.assemble_scalar(self._energy_form, self.comm)
+        m = self.material
+        return self.integral("stored heat", lambda: compat.constant(
+            self.mesh, m.rho * m.c) * self.T * compat.measure("dx", self.mesh))
 
     def min_max(self) -> tuple[float, float]:
         """(min, max) of the nodal temperatures over all ranks."""

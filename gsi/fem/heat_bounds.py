@@ -7,7 +7,42 @@ import math
 
 import numpy as np
 
+from gsi.errors import GsiInputError
+
 from . import compat
+
+
+def check_options(dt, theta, degree, theta_key: str) -> None:
+    """Refuse a step ``dt`` <= 0, ``theta`` outside [0, 1] (named ``theta_key``), a
+    ``degree`` other than 1 or 2, and an explicit theta < 1/2 above degree 1 (the bound
+    is for P1)."""
+    if not (dt is not None and np.isfinite(dt) and dt > 0):
+        raise GsiInputError(f"structure.heat.dt = {dt!r}: must be > 0 (s)")
+    if not 0.0 <= theta <= 1.0:
+        raise GsiInputError(f"{theta_key} = {theta!r}: must be in [0, 1]")
+    if degree not in (1, 2):
+        raise GsiInputError(f"structure.heat.degree = {degree!r}: must be 1 or 2")
+    if theta < 0.5 and degree != 1:
+        raise GsiInputError(f"{theta_key} = {theta!r}: below 0.5 (explicit) needs degree 1 "
+                            f"(its stability bound is for P1); use degree = 1 or theta >= 0.5")
+
+
+def stable_dt(theta: float, lam: float) -> float:
+    """Largest stable step (s) of the theta-scheme, 2/((1 - 2 theta) lambda) for theta <
+    1/2 and a bound ``lam`` > 0 (1/s) of the largest eigenvalue; inf otherwise."""
+    if theta >= 0.5 or not lam > 0:
+        return math.inf
+    return 2.0 / ((1.0 - 2.0 * theta) * lam)
+
+
+def check_explicit_step(dt: float, theta: float, limit: float, theta_key: str) -> None:
+    """Refuse (GsiInputError naming ``theta_key``) a step ``dt`` above the stable
+    ``limit`` (s)."""
+    if dt > limit:
+        raise GsiInputError(
+            f"{theta_key} = {theta:g}: the step dt = {dt:.4g} s is above the "
+            f"explicit stability limit {limit:.4g} s (2/((1 - 2 theta) lambda_max), P1 "
+            f"element bound); lower dt or use theta >= 0.5")
 
 
 def _facet_areas(mesh, facet_tags, tag_id, x, d) -> dict:

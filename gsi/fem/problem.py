@@ -14,10 +14,12 @@ from __future__ import annotations
 
 import numpy as np
 from mpi4py import MPI
+from petsc4py import PETSc
 
 from gsi.errors import GsiInputError
 
 from . import compat
+from .dirichlet import Dirichlet
 from .materials import get_material
 from .options import ITERATIVE_RTOL, choose_solver, petsc_option_strings
 from .solvers import LinearSolver, make_solver
@@ -113,8 +115,33 @@ class Problem:
 
     Subclasses set :attr:`kind` ("elasticity" or "heat": the solver defaults), call
     :meth:`_init_problem` and, once their space ``V`` exists, :meth:`_init_loads`; they
-    name their time-integration fields in :meth:`_state_fields` and may add arrays in
-    :meth:`_extra_state` / :meth:`_set_extra_state`.
+    build their forms in ``_setup`` (ending with :meth:`_init_vectors` and
+    :meth:`_make_solver`), name their time-integration fields in :meth:`_state_fields`
+    and may add arrays in :meth:`_extra_state` / :meth:`_set_extra_state`.
+
+    Notes
+    -----
+    The keyword options every problem takes (documented here once):
+
+    material : StructuralMaterial or str or dict
+        Material (library name, table, or object).
+    factorization : {"lu", "cholesky"}
+        MUMPS factorization of the step matrix (direct solver).
+    solver : {"auto", "direct", "out_of_core", "iterative"}
+        Linear solver: MUMPS factorized once, the same with the factor on disk (MUMPS
+        Cholesky, any number of ranks), a Krylov method with an algebraic-multigrid
+        preconditioner built once and a warm start, or by size ("auto": from
+        ``gsi.fem.options.AUTO_LARGE_DOFS[kind]`` dofs on).
+    petsc_options : dict, optional
+        PETSc options without the leading dash, under this problem's own prefix.
+    rtol : float, optional
+        Iterative solver: the residual falls to rtol times that of the warm start (default
+        ``gsi.fem.options.ITERATIVE_RTOL``; ``ksp_rtol`` in ``petsc_options`` overrides it).
+    options_key : str
+        TOML key of ``petsc_options`` named by errors (e.g. ``structures[0].petsc``).
+
+    The Dirichlet conditions live in :attr:`dirichlet` (:class:`gsi.fem.dirichlet.Dirichlet`),
+    the point loads in :attr:`nodal` (:class:`NodalLoads`).
     """
 
     kind = ""
@@ -134,12 +161,31 @@ class Problem:
         self.rtol = ITERATIVE_RTOL if rtol is None else float(rtol)
         self.t = 0.0
         self.n_steps = 0
+        self.dirichlet = Dirichlet(structure)
         self._solver: LinearSolver | None = None
 
     def _init_loads(self) -> None:
         """The vertex map and nodal loads of the space ``self.V``."""
         self.vmap = VertexDofMap(self.V)
         self.nodal = NodalLoads(self.vmap)
+
+    def _init_vectors(self, f_form, a_form) -> None:
+        """The compiled load form ``_f`` = ``f_form``, the right-hand side ``_b``, the load
+        vector ``_F``, scratch ``_tmp`` and the lifting ``_lift`` = -A g of the Dirichlet
+        values (``a_form``: the compiled step form)."""
+        self._f = f_form
+        self._b = compat.create_vector(f_form)
+        self._F = self._b.duplicate()
+        self._tmp = self._b.duplicate()
+        self._lift = compat.create_vector(f_form)
+        with self._lift.localForm() as loc:
+            loc.set(0.0)
+        compat.apply_lifting_and_accumulate(self._lift, a_form, self.bcs)
+
+    def _assemble_load(self, out: PETSc.Vec) -> None:
+        """out <- f (the load form plus the nodal loads), owned values, no Dirichlet rows."""
+        compat.assemble_vector_ghosted(out, self._f)
+        out.array[:] += self.nodal.values
 
     def _make_solver(self, A, **kw) -> None:
         """Build and factorize the solver of the step matrix ``A`` (once per run)."""
@@ -148,6 +194,32 @@ class Problem:
                                    petsc_options=self.petsc_options,
                                    options_key=self.options_key, rtol=self.rtol, **kw)
         self._solver.factorize()
+
+    @property
+    def bcs(self) -> list:
+        """The dolfinx Dirichlet conditions (:attr:`dirichlet`), in the order given."""
+        return self.dirichlet.bcs
+
+    def add_nodal_loads(self, global_ids, loads) -> None:
+        """Add point loads at mesh vertices given by global vertex ids (n,): forces (n, 3)
+        (N) of an elasticity, heat (n,) (W, into the body) of a heat problem.
+
+        Global vertex id = gmsh node tag - 1 (``mesh.geometry.input_global_indices``).
+        The loads act from the next solve/step on, until :meth:`clear_nodal_loads`.
+        Every rank keeps the loads at the vertices it owns (see ``NodalLoads.add``).
+        """
+        self.nodal.add(global_ids, loads)
+
+    def clear_nodal_loads(self) -> None:
+        """Remove every nodal load (local)."""
+        self.nodal.clear()
+
+    def load_vector(self) -> PETSc.Vec:
+        """The current load vector f (N of an elasticity, W of a heat problem: the load
+        form plus the nodal loads, owned values), before Dirichlet rows are set."""
+        self._setup()
+        self._assemble_load(self._F)
+        return self._F
 
     # ------------------------------------------------------------------ solver
     def set_up(self) -> None:
@@ -187,6 +259,21 @@ class Problem:
     def iterations(self) -> list[int]:
         """Krylov iterations of every solve so far (1 each for the direct solver)."""
         return [] if self._solver is None else list(self._solver.iterations)
+
+    def integral(self, key, integrand) -> float:
+        """The integral of the UFL form ``integrand()`` over the whole mesh (collective),
+        its form compiled once per ``key`` (the form may read fields that change)."""
+        forms = self.__dict__.setdefault("_integrals", {})
+        if key not in forms:
+            forms[key] = compat.form(integrand())
+        return compat.assemble_scalar(forms[key], self.comm)
+
+    def volume(self) -> float:
+        """Volume of the body (m^3) (collective; computed once)."""
+        if getattr(self, "_volume", None) is None:
+            self._volume = self.integral("volume", lambda: compat.constant(
+                self.mesh, 1.0) * compat.measure("dx", self.mesh))
+        return self._volume
 
     # ------------------------------------------------------------------ time
     def advance_time(self, dt: float) -> None:

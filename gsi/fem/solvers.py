@@ -16,7 +16,8 @@ scheme), so the expensive part of a solver is built once and re-used every step:
   hypre's BoomerAMG for heat (GAMG where PETSc has no hypre). Every solve starts from the
   last solution x_0 (warm start) and stops at ||b - A x|| <= 1e-12 ||b - A x_0||
   (:data:`gsi.fem.options.ITERATIVE_RTOL`);
-* ``auto``: from :data:`AUTO_LARGE_DOFS` global dofs on :data:`AUTO_LARGE_SOLVER`
+* ``auto``: from :data:`gsi.fem.options.AUTO_LARGE_DOFS` global dofs on
+  :data:`gsi.fem.options.AUTO_LARGE_SOLVER`
   (elasticity out of core, heat iterative), else direct.
 
 ``petsc_options`` (TOML ``[structures.petsc]``) are PETSc options without the leading
@@ -41,9 +42,8 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError, GsiRunError
 
 from . import compat
-from .options import (AUTO_LARGE_DOFS, ITERATIVE_ATOL, ITERATIVE_DEFAULTS,  # noqa: F401
-                      ITERATIVE_RTOL, OUT_OF_CORE_DEFAULTS, SOLVERS, choose_solver,
-                      petsc_option_strings)
+from .options import (ITERATIVE_ATOL, ITERATIVE_DEFAULTS, ITERATIVE_RTOL,
+                      OUT_OF_CORE_DEFAULTS, petsc_option_strings)
 
 
 _prefix_counter = itertools.count()
@@ -458,7 +458,7 @@ def make_solver(A: PETSc.Mat, comm: MPI.Comm, *, kind: str, problem: str,
                 options_key: str = "structure.petsc", near_nullspace=None,
                 rtol: float = ITERATIVE_RTOL) -> LinearSolver:
     """The solver of ``kind`` ("direct", "out_of_core" or "iterative", see
-    :func:`choose_solver`)."""
+    :func:`gsi.fem.options.choose_solver`)."""
     if kind == "direct":
         return FactorOnceSolver(A, comm, factorization=factorization, problem=problem,
                                 petsc_options=petsc_options, options_key=options_key)

@@ -119,8 +119,7 @@ def _eigen(sm, h_conv, tag="y0"):
     if h_conv:
         q.set_convection(tag, h_conv, 0.0)
     q.step()
-    K = q._Kmat.convert("dense").getDenseArray()
-    C = q._C.convert("dense").getDenseArray()
+    C, K = (m.convert("dense").getDenseArray() for m in q.matrices())
     lam_true = scipy.linalg.eigh(K, C, eigvals_only=True)[-1]
     q.theta = 0.0
     return lam_true, q.eigenvalue_bound()

@@ -46,7 +46,7 @@ def test_barycentric_point_force_is_applied_exactly(plate):
     w = np.array([0.2, 0.3, 0.5])
     F = np.array([0.4, -1.0, -7.0])
     loads = np.zeros((s.n_vertices, 3))
-    loads[tri] = -np.outer(w, F)               # the structure takes -F (DESIGN "Coupling")
+    loads[tri] = -np.outer(w, F)               # the structure takes -F (docs/design.md, "Coupling")
     s.add_nodal_loads(loads)
     assert p.load_sum() == pytest.approx(-F, rel=1e-12)
     q = np.zeros(s.n_vertices)
