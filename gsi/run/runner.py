@@ -289,7 +289,9 @@ class Runner:
             if k % self.every["output"] == 0 or k == self.n_total:
                 n_out += 1
                 self.outputs.write(self.sim, t, n_out, last=k == self.n_total)
-                self._progress(k, wall0)
+                if self.verbose and case.run.progress:
+                    _progress(k, self.n_total, self.dt, case.run.duration, wall0,
+                              self.sim.n if self.sim is not None else 0)
             if k < self.n_total:
                 ckpt.at_chunk_end(k, lambda: self.state(k, n_out))
         ckpt.release_signals()
@@ -298,18 +300,6 @@ class Runner:
 
     def _sample(self, m, t: float) -> None:
         self.outputs.record_sample(m, t, m.sample(self))
-
-    def _progress(self, k: int, wall0: float) -> None:
-        if not (self.verbose and self.case.run.progress):
-            return
-        frac = k / self.n_total
-        el = time.perf_counter() - wall0
-        rate = k * self.dt / el if el > 0 else math.nan
-        eta = el * (1 - frac) / frac if frac > 0 else math.nan
-        bar = "#" * int(20 * frac) + "." * (20 - int(20 * frac))
-        n = self.sim.n if self.sim is not None else 0
-        print(f"  [{bar}] t = {k * self.dt:8.4f} / {self.case.run.duration:g} s  "
-              f"{rate:.3g} s/s  ETA {eta:5.0f} s  particles {n}", flush=True)
 
     def finish_structures(self, k: int) -> None:
         """End the coupling interval of every structure due at step ``k`` and open the
@@ -371,6 +361,18 @@ class Runner:
                              pictures=self.pictures, structure_summaries=structures,
                              checkpoint_seconds=self.checkpoint_seconds, say=self.say)
         return self.comm.bcast(res, root=self.root)
+
+
+def _progress(k: int, n_total: int, dt: float, duration: float, wall0: float,
+              n: int) -> None:
+    """The progress line after step ``k`` (``n`` particles)."""
+    frac = k / n_total
+    el = time.perf_counter() - wall0
+    rate = k * dt / el if el > 0 else math.nan
+    eta = el * (1 - frac) / frac if frac > 0 else math.nan
+    bar = "#" * int(20 * frac) + "." * (20 - int(20 * frac))
+    print(f"  [{bar}] t = {k * dt:8.4f} / {duration:g} s  "
+          f"{rate:.3g} s/s  ETA {eta:5.0f} s  particles {n}", flush=True)
 
 
 def _case_extrapolation(case, dt, out, structures, *, resume: bool, ranks: int):
