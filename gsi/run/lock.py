@@ -65,7 +65,10 @@ class OutputLock:
         self.fd = None
 
     def __del__(self):
-        self.release()
+        try:
+            self.release()
+        except Exception:      # at interpreter shutdown
+            pass
 
 
 def _holder_text(info: dict) -> str:
