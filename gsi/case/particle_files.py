@@ -64,10 +64,12 @@ def _read_csv(path, key) -> dict:
 
 def _read_vtu(path, key) -> dict:
     import meshio
+
+    from gsi.readers import ReadFailed, guarded
     try:
-        m = meshio.read(path)
-    except Exception as exc:      # meshio raises many kinds
-        raise GsiInputError(f"{key}: cannot read ({exc})") from None
+        m = guarded(meshio.read, path)
+    except ReadFailed as exc:      # meshio raises many kinds, SystemExit included
+        raise GsiInputError(f"{key}: meshio cannot read it ({exc})") from None
     pd = m.point_data
     if "radius" not in pd:
         raise GsiInputError(f"{key}: no point data 'radius' (has: "

@@ -289,8 +289,8 @@ class StaggeredCoupling(RecordLog):
         el = self.elasticity
         if self.step_count == 0 or el.has_prescribed_motion():
             return False     # the first step always runs (sets up the solver)
-        busy = any(np.any(f.x.array) for f in (el.u, el.v, el.a)) or \
-            bool(np.any(el.load_vector().array))
+        loaded = bool(np.any(el.load_vector().array))     # collective: on every rank
+        busy = loaded or any(np.any(f.x.array) for f in (el.u, el.v, el.a))
         return not self.comm.allreduce(busy, op=MPI.LOR)
 
     def _record(self, load, wall_force, work_step, u, n_particles, n_contacts, t_dem, t_fe,

@@ -158,10 +158,13 @@ class MeshWall:
         ``scale`` multiplies the coordinates (e.g. 1e-3 for a file in mm).
         """
         import meshio
+
+        from gsi.readers import ReadFailed, guarded
         try:
-            m = meshio.read(path)
-        except Exception as exc:  # meshio raises many kinds
-            raise GsiInputError(f"mesh_wall.file = {path}: cannot read ({exc})") from None
+            m = guarded(meshio.read, path)
+        except ReadFailed as exc:  # meshio raises many kinds, SystemExit included
+            raise GsiInputError(f"mesh_wall.file = {path}: meshio cannot read it "
+                                f"({exc})") from None
         tris = [c.data for c in m.cells if c.type == "triangle"]
         if not tris:
             raise GsiInputError(f"mesh_wall.file = {path}: holds no triangles")

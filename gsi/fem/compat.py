@@ -83,7 +83,10 @@ def geometry_dofmap(mesh) -> np.ndarray:
     dm = mesh.geometry.dofmap
     if isinstance(dm, np.ndarray):
         return dm
-    return dm.array.reshape(-1, dm.links(0).size)
+    # the nodes per cell from the coordinate element: a rank may hold no cell at all
+    # (a structure smaller than the number of ranks), when there is no links(0)
+    nodes = mesh.geometry.cmap.create_dof_layout().num_dofs
+    return dm.array.reshape(-1, nodes)
 
 
 def input_global_indices(mesh) -> np.ndarray:

@@ -70,6 +70,16 @@ def _open(gmsh, path: pathlib.Path, params: dict | None, key: str) -> dict:
     return consts
 
 
+def _read(gmsh, path: pathlib.Path, params: dict | None, key: str) -> dict:
+    """:func:`_open` with gmsh's failures (plain Exceptions, undecodable messages about a
+    binary file, anything else) as one ``error:`` line naming the key and the file."""
+    from gsi.readers import ReadFailed, guarded
+    try:
+        return guarded(_open, gmsh, path, params, key, keep=(GsiInputError,))
+    except ReadFailed as exc:
+        raise GsiInputError(f"{key}.file = '{path}': gmsh cannot read it ({exc})") from None
+
+
 def _groups(gmsh) -> tuple[dict, dict]:
     """(surface groups, volume groups) of the model: {name: physical number}; an unnamed
     group is named by its number."""
@@ -108,13 +118,7 @@ def physical_groups(path, *, params: dict | None = None, key: str = "structure")
     path = _check_path(path, key)
     gmsh = _session()
     try:
-        try:
-            consts = _open(gmsh, path, params, key)
-        except GsiInputError:
-            raise
-        except Exception as exc:  # gmsh raises plain Exceptions with its log line
-            raise GsiInputError(f"{key}.file = '{path}': gmsh cannot read it: "
-                                f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None
+        consts = _read(gmsh, path, params, key)
         surfaces, volumes = _groups(gmsh)
     finally:
         gmsh.finalize()
@@ -148,20 +152,19 @@ def load(path, *, params: dict | None = None, comm: MPI.Comm = MPI.COMM_WORLD, r
         try:
             p = _check_path(path, key)
             gmsh = _session()
-            try:
-                consts = _open(gmsh, p, params, key)
-            except GsiInputError:
-                raise
-            except Exception as exc:
-                raise GsiInputError(f"{key}.file = '{p}': gmsh cannot read it: "
-                                    f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None
+            consts = _read(gmsh, p, params, key)
             surfaces, volumes = _groups(gmsh)
             if not volumes:
                 raise GsiInputError(f"{key}.file = '{p.name}': no physical volume; add a "
                                     "'Physical Volume(\"name\") = {...};' (its tetrahedra are "
                                     "the structure)")
             if p.suffix == ".geo":
-                gmsh.model.mesh.generate(3)
+                from gsi.readers import ReadFailed, guarded
+                try:
+                    guarded(gmsh.model.mesh.generate, 3)
+                except ReadFailed as exc:
+                    raise GsiInputError(f"{key}.file = '{p}': gmsh cannot mesh it "
+                                        f"({exc})") from None
             types = set(int(t) for t in gmsh.model.mesh.getElementTypes(3))
             if types != {4}:
                 raise GsiInputError(f"{key}.file = '{p.name}': the volume mesh must be "

@@ -4,8 +4,10 @@
   structures' coupling intervals, wall motions, monitors, outputs, checkpoints);
 * :func:`build_simulation` (from :mod:`gsi.case.build_dem`): the DEM of a case;
 * :mod:`gsi.run.outputs`, :mod:`gsi.run.pictures`, :mod:`gsi.run.outdir`: output series,
-  pictures, the output directory;
+  pictures, the output directory; :mod:`gsi.run.lock`: the directory's lock (one run
+  at a time);
 * :mod:`gsi.run.checkpoints`: :class:`Checkpointer`, checkpoint and restart;
+  :mod:`gsi.run.stepping`: the DEM's steps in blocks (a signal is honoured within one);
 * :mod:`gsi.run.result`: :class:`RunResult`, the summary, :class:`RunInterrupted`;
 * :mod:`gsi.run.api`: :func:`run_case`, :func:`demo_main`; :mod:`gsi.run.cli`: the
   ``gsi`` command.

@@ -1,7 +1,8 @@
 """Checkpoint and restart of a run (files: :mod:`gsi.checkpoint`).
 
 :class:`Checkpointer` decides when a checkpoint is due (every ``every`` steps, every
-``minutes`` of wall-clock time decided on rank 0, or after SIGINT/SIGTERM), writes the
+``minutes`` of wall-clock time decided on rank 0, or after SIGINT/SIGTERM, within a
+block of DEM steps, :meth:`Checkpointer.between_blocks`), writes the
 arrays each rank hands it, and loads the newest valid one back. Every method is
 collective."""
 from __future__ import annotations
@@ -39,7 +40,8 @@ class Checkpointer:
     # ------------------------------------------------------------------ signals
     def catch_signals(self) -> None:
         """From now on SIGINT/SIGTERM only set :attr:`signum` (the loop checkpoints and
-        stops at the end of the chunk; a second signal in a serial run stops at once)."""
+        stops after the current block of DEM steps, :meth:`between_blocks`, or at the end
+        of the chunk; a second signal in a serial run stops at once)."""
         try:
             for sig in (signal.SIGINT, signal.SIGTERM):
                 self._previous[sig] = signal.signal(sig, self._on_signal)
@@ -62,12 +64,40 @@ class Checkpointer:
         """The loop starts (or resumes) at step ``k``: the clocks count from here."""
         self.last_step, self.last_wall = k, time.perf_counter()
 
+    def _wall_due(self) -> bool:
+        return (self.is_root and self.minutes > 0
+                and time.perf_counter() - self.last_wall >= 60.0 * self.minutes)
+
+    def between_blocks(self, k: int, nxt: int, exc, state) -> int:
+        """After a block of DEM steps of a chunk ending at step ``nxt`` (collective: one
+        allreduce of four numbers, see :mod:`gsi.run.stepping`): returns the step the DEM
+        (rank ``root``: ``k``) reached, on every rank. An error of the DEM rank (``exc``)
+        is raised on every rank. Before ``nxt``, a signal writes the checkpoint of that
+        step (``state(k)``: this rank's arrays) and raises :class:`RunInterrupted`, and a
+        due wall-clock checkpoint is written; at ``nxt`` both are left to
+        :meth:`at_chunk_end`, after the chunk's events."""
+        flags = np.array([self.signum, self._wall_due(), k if self.is_root else 0,
+                          exc is not None], np.int64)
+        if self.comm.size > 1:
+            from mpi4py import MPI
+            both = np.empty_like(flags)
+            self.comm.Allreduce(flags, both, op=MPI.MAX)
+            flags = both
+        signum, wall_due, k, failed = (int(f) for f in flags)
+        if failed:
+            raise agree(self.comm, self.root, exc)
+        if k < nxt and (signum or wall_due):
+            if self.last_step != k:
+                self.write(k, state(k))
+            if signum:
+                raise RunInterrupted(signum, k * self.dt, self.out)
+        return k
+
     def at_chunk_end(self, k: int, state) -> None:
         """At the end of a chunk: write ``state()`` (this rank's arrays) when due or
         signalled; after a signal raise :class:`RunInterrupted` on every rank."""
         due = self.every is not None and k % self.every == 0
-        wall_due = (self.is_root and self.minutes > 0
-                    and time.perf_counter() - self.last_wall >= 60.0 * self.minutes)
+        wall_due = self._wall_due()
         flags = np.array([self.signum, wall_due], np.int64)
         if self.comm.size > 1:
             from mpi4py import MPI

@@ -1,4 +1,5 @@
-"""The output directory of a run: refused when it holds an earlier run's outputs, unless
+"""The output directory of a run: owned by one run at a time (its lock,
+:mod:`gsi.run.lock`), refused when it holds an earlier run's outputs, unless
 ``overwrite`` (removed first) or ``resume`` (continued)."""
 from __future__ import annotations
 
@@ -31,32 +32,50 @@ def output_dir(out, comm, *, overwrite: bool = False, resume: bool = False) -> p
     A directory holding an earlier run's outputs (:func:`previous_outputs`) is refused
     unless ``overwrite``, which removes those outputs first (other files stay), so that no
     stale file of the earlier run is left in a series, or ``resume``, which continues them
-    (the runner truncates each series to the checkpoint)."""
-    msg = None
+    (the runner truncates each series to the checkpoint). No lock: see :func:`claim`."""
+    return _output_dir(out, comm, overwrite=overwrite, resume=resume, lock=False)[0]
+
+
+def claim(out, comm, *, overwrite: bool = False, resume: bool = False):
+    """:func:`output_dir` under the directory's lock (:mod:`gsi.run.lock`), taken on rank 0
+    before anything there is looked at or removed: returns ``(out, lock)``, the lock
+    (:class:`gsi.run.lock.OutputLock`) on rank 0 and None elsewhere; release it when the
+    run ends. A directory another live run owns is refused (one line, every rank)."""
+    return _output_dir(out, comm, overwrite=overwrite, resume=resume, lock=True)
+
+
+def _output_dir(out, comm, *, overwrite: bool, resume: bool, lock: bool):
+    msg = held = None
     if out is None or str(out).strip() == "":
         msg = "--out = '': give an output directory"
     else:
         out = pathlib.Path(out)
         if comm.rank == 0:
-            msg = _prepare(out, comm.rank, overwrite=overwrite, resume=resume)
+            msg, held = _prepare(out, comm.rank, overwrite=overwrite, resume=resume,
+                                 lock=lock)
     if comm.size > 1:
         msg = comm.bcast(msg, root=0)
     if msg:
         raise GsiInputError(msg)
-    return out
+    return out, held
 
 
-def _prepare(out: pathlib.Path, rank: int, *, overwrite: bool, resume: bool) -> str | None:
-    """Make ``out`` ready on rank 0; the one-line error, or None."""
+def _prepare(out: pathlib.Path, rank: int, *, overwrite: bool, resume: bool, lock: bool):
+    """Make ``out`` ready on rank 0: (the one-line error or None, the lock or None)."""
+    from gsi.run.lock import LockRefused, acquire
+    held = None
     try:
         out.mkdir(parents=True, exist_ok=True)
-        old = previous_outputs(out)
         if resume and overwrite:
-            return "--resume and --overwrite: give one (continue or start again)"
+            return "--resume and --overwrite: give one (continue or start again)", None
+        if lock:
+            held = acquire(out)
+        old = previous_outputs(out)
         if old and not overwrite and not resume:
-            return (f"--out = {str(out)!r}: holds the outputs of an earlier run "
-                    f"({', '.join(f.name for f in old[:3])}{', ...' if len(old) > 3 else ''}); "
-                    "add --overwrite to replace them or give another directory")
+            msg = (f"--out = {str(out)!r}: holds the outputs of an earlier run "
+                   f"({', '.join(f.name for f in old[:3])}{', ...' if len(old) > 3 else ''}); "
+                   "add --overwrite to replace them or give another directory")
+            return msg, _released(held)
         for f in old if overwrite and not resume else ():
             if f.is_dir():
                 shutil.rmtree(f)
@@ -65,14 +84,26 @@ def _prepare(out: pathlib.Path, rank: int, *, overwrite: bool, resume: bool) -> 
         probe = out / f".gsi-write-test-{rank}"
         probe.write_text("")
         probe.unlink()
+        return None, held
+    except LockRefused as exc:
+        return str(exc), None
     except FileExistsError:
-        return f"--out = {str(out)!r}: a file of that name exists; give a directory"
+        msg = f"--out = {str(out)!r}: a file of that name exists; give a directory"
     except NotADirectoryError:
-        return f"--out = {str(out)!r}: a parent is a file, not a directory"
+        msg = f"--out = {str(out)!r}: a parent is a file, not a directory"
     except PermissionError:
-        return f"--out = {str(out)!r}: not writable; choose another directory"
+        msg = f"--out = {str(out)!r}: not writable; choose another directory"
     except OSError as exc:
-        return f"--out = {str(out)!r}: cannot write there ({exc.strerror})"
+        msg = f"--out = {str(out)!r}: cannot write there ({exc.strerror})"
+    except BaseException:
+        _released(held)
+        raise
+    return msg, _released(held)
+
+
+def _released(lock) -> None:
+    if lock is not None:
+        lock.release()
     return None
 
 

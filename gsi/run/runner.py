@@ -20,7 +20,8 @@ DEM advances in chunks between *events*, each at a whole step:
 MPI: the FE structures are distributed over all ranks; the DEM, particle output,
 monitors' DEM values and pictures live on rank 0. Every rank runs the same loop (the
 event steps are known everywhere); an error on the DEM rank is broadcast at the end of
-each chunk, so every rank stops with the same message and none hangs.
+each block of steps, so every rank stops with the same message and none hangs. The
+output directory is locked for the run's lifetime (:mod:`gsi.run.lock`, rank 0).
 
 Files under ``out``: ``particles.pvd`` (+ ``particles/*.vtu``), ``walls/<name>.vtu``
 (moving walls: ``walls/<name>.pvd`` series), ``<structure>.xdmf`` (+ ``.h5``, one closed
@@ -36,9 +37,11 @@ SIGINT/SIGTERM, every rank writes its state (:meth:`Runner.state`: the DEM's
 :meth:`gsi.dem.simulation.Simulation.state` on rank 0, each structure's
 :meth:`gsi.coupling.coupled_structure.CoupledStructure.state`, the loop counters, the monitor
 series, the output series and the pending picture jobs) to
-``checkpoints/ckpt_<step>.rank<r>.npz``, then rank 0 the manifest. A signal only sets a
-flag; at the end of the current chunk every rank agrees (one allreduce), writes the
-checkpoint and raises :class:`RunInterrupted`. ``resume=True`` rebuilds the case, loads
+``checkpoints/ckpt_<step>.rank<r>.npz``, then rank 0 the manifest. The DEM runs a chunk
+in blocks of about a quarter second of wall time (:mod:`gsi.run.stepping`; bit-identical
+to one call). A signal only sets a flag; after the current block every rank agrees (one
+allreduce), writes the checkpoint of that step and raises :class:`RunInterrupted`: a
+run stops within about a second of SIGINT/SIGTERM, whatever its output interval. ``resume=True`` rebuilds the case, loads
 the newest valid checkpoint (same number of ranks) and continues bit-identically to an
 uninterrupted run; every output series is cut back to the checkpoint (PVD entries and
 VTU files, CSV rows, XDMF steps), so it has no duplicate and no stale entries.
@@ -54,9 +57,10 @@ from gsi.errors import GsiInputError, GsiRunError
 from gsi.case.build_dem import build_simulation
 from gsi.dem.engine import is_cached as engine_is_cached
 from gsi.run.checkpoints import Checkpointer
-from gsi.run.outdir import output_dir
+from gsi.run.outdir import claim
 from gsi.run.outputs import Outputs
 from gsi.run.result import RunResult, agree, agreed, finish_run
+from gsi.run.stepping import StepBlocks
 
 __all__ = ["Runner"]
 
@@ -69,7 +73,8 @@ class Runner:
     case : gsi.case.Case
         A validated case (``gsi.case.load_case`` or built in Python).
     out : path
-        Output directory (created).
+        Output directory (created), locked by this run until :meth:`run` ends (or
+        :meth:`close`): another run into it is refused (:mod:`gsi.run.lock`).
     quick : bool
         Run the case's ``[quick]`` form.
     pictures : bool, optional
@@ -101,7 +106,12 @@ class Runner:
         case = validated(case)
         self.case = case.quick_variant() if quick else case
         self.quick = quick
-        self.out = output_dir(out, self.comm, overwrite=overwrite, resume=resume)
+        if checkpoint_every is not None and not (checkpoint_every >= 0
+                                                 and math.isfinite(checkpoint_every)):
+            raise GsiInputError(f"--checkpoint-every = {checkpoint_every}: must be >= 0 "
+                                "(simulated seconds; 0 = none)")
+        # the directory's lock (rank 0) until run() ends: see gsi.run.lock
+        self.out, self.lock = claim(out, self.comm, overwrite=overwrite, resume=resume)
         self.verbose = verbose and self.is_root
         self.pictures = (case.output.pictures if pictures is None else pictures) and self.is_root
         self.sim = None
@@ -110,13 +120,10 @@ class Runner:
         self.structures = []
         self.contact_groups = []
         self.resume = bool(resume)
-        if checkpoint_every is not None and not (checkpoint_every >= 0
-                                                 and math.isfinite(checkpoint_every)):
-            raise GsiInputError(f"--checkpoint-every = {checkpoint_every}: must be >= 0 "
-                                "(simulated seconds; 0 = none)")
         self.checkpoint_every = checkpoint_every
         self.checkpoints = None       # Checkpointer, after setup()
         self.outputs = None           # Outputs, when the run starts
+        self.blocks = StepBlocks()    # the DEM's step calls (gsi.run.stepping)
         self.on_resume = []
 
     # ------------------------------------------------------------------ queries for parts
@@ -205,6 +212,14 @@ class Runner:
         finally:
             if self.checkpoints is not None:
                 self.checkpoints.release_signals()
+            self.close()
+
+    def close(self) -> None:
+        """Release the output directory's lock (:meth:`run` does it when it ends; call
+        it for a runner that is not run)."""
+        if self.lock is not None:
+            self.lock.release()
+            self.lock = None
 
     def _run(self, wall0: float) -> RunResult:
         self.setup()
@@ -253,16 +268,14 @@ class Runner:
                                      else ()) if j > k])
             if ckpt.every is not None:
                 nxt = min(nxt, (k // ckpt.every + 1) * ckpt.every)
-            exc = None
-            if self.is_root:
-                try:
-                    self.sim.step(nxt - k)
-                except (GsiRunError, GsiInputError) as e:
-                    exc = e
-            err = agree(self.comm, self.root, exc)
-            if err:
-                raise err
-            k = nxt
+            while k < nxt:       # in blocks: a signal is honoured within one block
+                exc = None
+                if self.is_root:
+                    try:
+                        k += self.blocks.step(self.sim, nxt - k)
+                    except (GsiRunError, GsiInputError) as e:
+                        exc = e
+                k = ckpt.between_blocks(k, nxt, exc, lambda j: self.state(j, n_out))
             t = k * self.dt
             self.finish_structures(k)
             for move, t_event in self.motion_events.get(k, []):
@@ -276,7 +289,9 @@ class Runner:
             if k % self.every["output"] == 0 or k == self.n_total:
                 n_out += 1
                 self.outputs.write(self.sim, t, n_out, last=k == self.n_total)
-                self._progress(k, wall0)
+                if self.verbose and case.run.progress:
+                    _progress(k, self.n_total, self.dt, case.run.duration, wall0,
+                              self.sim.n if self.sim is not None else 0)
             if k < self.n_total:
                 ckpt.at_chunk_end(k, lambda: self.state(k, n_out))
         ckpt.release_signals()
@@ -285,18 +300,6 @@ class Runner:
 
     def _sample(self, m, t: float) -> None:
         self.outputs.record_sample(m, t, m.sample(self))
-
-    def _progress(self, k: int, wall0: float) -> None:
-        if not (self.verbose and self.case.run.progress):
-            return
-        frac = k / self.n_total
-        el = time.perf_counter() - wall0
-        rate = k * self.dt / el if el > 0 else math.nan
-        eta = el * (1 - frac) / frac if frac > 0 else math.nan
-        bar = "#" * int(20 * frac) + "." * (20 - int(20 * frac))
-        n = self.sim.n if self.sim is not None else 0
-        print(f"  [{bar}] t = {k * self.dt:8.4f} / {self.case.run.duration:g} s  "
-              f"{rate:.3g} s/s  ETA {eta:5.0f} s  particles {n}", flush=True)
 
     def finish_structures(self, k: int) -> None:
         """End the coupling interval of every structure due at step ``k`` and open the
@@ -358,6 +361,18 @@ class Runner:
                              pictures=self.pictures, structure_summaries=structures,
                              checkpoint_seconds=self.checkpoint_seconds, say=self.say)
         return self.comm.bcast(res, root=self.root)
+
+
+def _progress(k: int, n_total: int, dt: float, duration: float, wall0: float,
+              n: int) -> None:
+    """The progress line after step ``k`` (``n`` particles)."""
+    frac = k / n_total
+    el = time.perf_counter() - wall0
+    rate = k * dt / el if el > 0 else math.nan
+    eta = el * (1 - frac) / frac if frac > 0 else math.nan
+    bar = "#" * int(20 * frac) + "." * (20 - int(20 * frac))
+    print(f"  [{bar}] t = {k * dt:8.4f} / {duration:g} s  "
+          f"{rate:.3g} s/s  ETA {eta:5.0f} s  particles {n}", flush=True)
 
 
 def _case_extrapolation(case, dt, out, structures, *, resume: bool, ranks: int):

@@ -30,8 +30,8 @@ def mpirun(n):
     return [exe, "-n", str(n)]
 
 
-def driver(out, *extra, threads=1, ranks=None, timeout=600, check=True):
-    cmd = [sys.executable, str(HERE / "driver.py"), str(CASE), str(out), *extra]
+def driver(out, *extra, threads=1, ranks=None, timeout=600, check=True, case=None):
+    cmd = [sys.executable, str(HERE / "driver.py"), str(case or CASE), str(out), *extra]
     if ranks:
         cmd = mpirun(ranks) + cmd
     proc = subprocess.run(cmd, env=env(threads), capture_output=True, text=True,
