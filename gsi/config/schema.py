@@ -168,6 +168,8 @@ def _convert(tp: Any, value: Any, path: str, meta: dict) -> Any:
         if not isinstance(value, (list, tuple)) or not all(
                 isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
             raise _fail(path, value, "must be a list of numbers", unit)
+        if item is int and not all(isinstance(v, int) for v in value):
+            raise _fail(path, value, "must be a list of integers (counts)", unit)
         n = meta.get("length")
         if n is not None and len(value) != n:
             raise _fail(path, value, f"must have {n} components", unit)

@@ -174,11 +174,14 @@ def _check(args) -> int:
         return 0
     if not args.case:
         raise GsiInputError("check: give a case file (gsi check CASE.toml) or --keys")
+    from gsi.case.sizes import estimate, summary
     case = load_case(args.case)
     dt = case.check()
+    est = summary(estimate(case, dt))
     print(f"{args.case}: ok (case '{case.case.name}': {len(case.particles)} particle "
           f"source(s), {len(case.walls)} wall(s), {len(case.structures)} structure(s), "
           f"{len(case.monitors)} monitor(s); dt = {dt:.3g} s)")
+    print(f"  {est}")
     return 0
 
 

@@ -1,0 +1,228 @@
+"""Checks of a case that a careful but hurried user needs (issue "bad input a careful user
+actually types"): output names that are not paths, a ``[[pairs]]`` entry given twice,
+geometric contradictions (a fill region through a wall plane, a lattice fill crossing a
+cone, a wall plane, structure or monitor region outside the domain) and the explicit
+heat update's stability bound, computable before the run."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from gsi.case.names import check_name, check_unique_across
+from gsi.errors import GsiInputError
+
+__all__ = ["check_output_names", "check_pairs", "check_planes_and_fills",
+           "check_monitor_regions", "check_heat_stability", "check_lattices_against_walls"]
+
+
+def check_output_names(case) -> None:
+    """Every name that becomes a file or a monitor target follows :mod:`gsi.case.names`;
+    walls and structures share one name space (a wall monitor's target names either)."""
+    for section, what in (("particles", "a group name"), ("walls", "walls/<name>.vtu"),
+                          ("structures", "<name>.xdmf"), ("monitors", "monitors/<name>.csv")):
+        for i, item in enumerate(getattr(case, section)):
+            check_name(f"{section}[{i}].name", item.name, what)
+    check_unique_across([(f"walls[{i}].name", w.name) for i, w in enumerate(case.walls)]
+                        + [(f"structures[{i}].name", s.name)
+                           for i, s in enumerate(case.structures)], "wall and structure")
+    check_pairs(case)
+
+
+def check_pairs(case) -> None:
+    """A material pair given twice (in either order) would let one entry win silently."""
+    seen: dict[frozenset, int] = {}
+    for i, p in enumerate(case.pairs):
+        key = frozenset(p.materials)
+        if key in seen:
+            raise GsiInputError(f"pairs[{i}].materials = {list(p.materials)}: the same pair as "
+                                f"pairs[{seen[key]}] (order does not matter); give each pair once")
+        seen[key] = i
+
+
+def _region_box(region) -> tuple[np.ndarray, np.ndarray]:
+    """Axis-aligned bounding box of a region (box, sphere, cylinder)."""
+    if region.kind == "box":
+        return np.asarray(region.lo, float), np.asarray(region.hi, float)
+    c = np.asarray(region.centre, float)
+    r = float(region.radius)
+    if region.kind == "sphere":
+        return c - r, c + r
+    ax = _axis(region)
+    mid = c + 0.5 * float(region.length) * ax
+    half = 0.5 * float(region.length) * np.abs(ax) + r * np.sqrt(np.clip(1.0 - ax ** 2, 0, 1))
+    return mid - half, mid + half
+
+
+def _axis(region) -> np.ndarray:
+    ax = np.asarray(region.axis if region.axis is not None else (0.0, 0.0, 1.0), float)
+    return ax / np.linalg.norm(ax)
+
+
+def _middle(region) -> np.ndarray:
+    """Centre of a sphere; middle of a cylinder (its ``centre`` is one end's axis point)."""
+    c = np.asarray(region.centre, float)
+    return c if region.kind == "sphere" else c + 0.5 * float(region.length) * _axis(region)
+
+
+def _corners(lo, hi) -> np.ndarray:
+    return np.array([[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1])
+                     for c in (lo[2], hi[2])])
+
+
+def check_planes_and_fills(case) -> None:
+    """A plane wall wholly outside the domain box (particles are lost before they reach
+    it), and a fill region reaching through a plane (the particles behind it would be
+    pushed through or lost): one-line errors naming the key."""
+    dlo, dhi = np.asarray(case.dem.domain_lo, float), np.asarray(case.dem.domain_hi, float)
+    size = float(np.max(dhi - dlo))
+    for j, w in enumerate(case.walls):
+        if w.kind != "plane":
+            continue
+        n = np.asarray(w.normal, float)
+        n = n / np.linalg.norm(n)
+        s = (_corners(dlo, dhi) - np.asarray(w.point, float)) @ n
+        if (s > 1e-9 * size).all():
+            raise GsiInputError(
+                f"walls[{j}].point = {list(w.point)}: the plane lies outside dem.domain "
+                f"({dlo.tolist()} to {dhi.tolist()}), {float(s.min()):.3g} m from it; particles "
+                f"leave the domain before they reach it: move it into the domain (m)")
+        for i, p in enumerate(case.particles):
+            if p.region is None or p.fill == "file":
+                continue
+            lo, hi = _region_box(p.region)
+            r = case.source_largest_radius(i) if p.size is not None else 0.0
+            behind = float(((_corners(lo, hi) - np.asarray(w.point, float)) @ n).min())
+            if p.region.kind != "box":     # the round regions: their own extent along n
+                c = _middle(p.region)
+                behind = float((c - np.asarray(w.point, float)) @ n) - _extent(p.region, n)
+            if behind < -r - 1e-9 * size:
+                raise GsiInputError(
+                    f"particles[{i}].region: reaches {-behind:.3g} m through walls[{j}] "
+                    f"('{w.name}', a plane) to its back side; particles placed there are pushed "
+                    f"through the wall or lost: keep the region on the side normal points to")
+
+
+def _extent(region, n) -> float:
+    """Half extent of a sphere or cylinder region along the unit vector ``n``."""
+    r = float(region.radius)
+    if region.kind == "sphere":
+        return r
+    c = float(abs(_axis(region) @ n))
+    return 0.5 * float(region.length) * c + r * math.sqrt(max(0.0, 1.0 - c * c))
+
+
+def check_monitor_regions(case) -> None:
+    """A monitor region wholly outside the domain box samples nothing."""
+    dlo, dhi = np.asarray(case.dem.domain_lo, float), np.asarray(case.dem.domain_hi, float)
+    for i, m in enumerate(case.monitors):
+        if m.region is None:
+            continue
+        lo, hi = _region_box(m.region)
+        if (hi < dlo).any() or (lo > dhi).any():
+            raise GsiInputError(
+                f"monitors[{i}].region: {np.round(lo, 9).tolist()} to "
+                f"{np.round(hi, 9).tolist()} lies outside dem.domain ({dlo.tolist()} to "
+                f"{dhi.tolist()}); it would sample no particle: move it (m)")
+
+
+def _resting_conductance(case, i: int) -> tuple[float, float]:
+    """(H, m c_p / s) of the smallest particle of source i in one contact under its own
+    weight: a lower bound of the conductance sum of any particle at rest (which carries
+    at least its weight through at least one contact). Hertz with F = m g:
+    a = (3 F R*/(4 E*))^(1/3) (Johnson, eq. 4.22), R* = r/2, E* = E/(2(1-nu^2));
+    ``area`` H = 2 k sqrt(pi) a, ``radius`` H = 2 k a, ``constant`` H = h_c (heat.py)."""
+    p = case.particles[i]
+    mat = case.materials[p.material]
+    r = case.source_smallest_radius(i)
+    m = mat.rho * 4.0 / 3.0 * math.pi * r ** 3
+    mc = m * mat.cp / case.run.heat_time_scale
+    model = case.dem.heat
+    if model == "constant":
+        return case.dem.h_c, mc
+    g = float(np.linalg.norm(case.dem.gravity))
+    if model not in ("area", "radius") or g == 0 or case.dem.contact != "hertz":
+        return 0.0, mc
+    e_star = mat.E / (2.0 * (1.0 - mat.nu ** 2))
+    a = (3.0 * m * g * 0.5 * r / (4.0 * e_star)) ** (1.0 / 3.0)
+    H = 2.0 * mat.k * a * (math.sqrt(math.pi) if model == "area" else 1.0)
+    return H, mc
+
+
+def check_heat_stability(case, dt: float) -> None:
+    """The explicit heat update T += dt Q/(m c_p) is unstable when dt sum_j H_ij/(m_i c_p,i)
+    exceeds 1 (the bound the run checks at every neighbour rebuild). A particle at rest
+    has at least one contact carrying its weight, so the ratio of one such contact is a
+    lower bound: above 1 the run would stop; refused here with the case's keys (unless
+    ``dem.force_dt``)."""
+    if case.dem.heat == "none" or case.dem.force_dt:
+        return
+    for i in range(len(case.particles)):
+        H, mc = _resting_conductance(case, i)
+        ratio = dt * H / mc if mc > 0 else 0.0
+        if ratio > 1.0:
+            s = case.run.heat_time_scale
+            fix = (f"lower run.heat_time_scale to <= {s / ratio:.3g}" if s > 1 else
+                   f"use run.dt <= {dt / ratio:.3g} s")
+            raise GsiInputError(
+                f"run.heat_time_scale = {s:g}: the explicit heat update is unstable: dt H/(m "
+                f"c_p/s) = {ratio:.3g} > 1 already for one resting contact of particles[{i}] "
+                f"(dem.heat = '{case.dem.heat}', dt = {dt:.3g} s); {fix} (or dem.force_dt = "
+                f"true to run anyway)")
+
+
+def _point_triangle_distance(P: np.ndarray, A, B, C) -> np.ndarray:
+    """Distance (n, m) of points P (n, 3) to triangles (A, B, C) (m, 3 each): to the plane
+    when the projection falls inside, else to the nearest edge."""
+    def seg(P, a, b):
+        ab = b - a
+        t = np.clip(np.einsum("nmk,mk->nm", P[:, None, :] - a[None], ab)
+                    / np.maximum(np.einsum("mk,mk->m", ab, ab), 1e-300), 0.0, 1.0)
+        q = a[None] + t[..., None] * ab[None]
+        return np.linalg.norm(P[:, None, :] - q, axis=2)
+    n = np.cross(B - A, C - A)
+    nn = np.linalg.norm(n, axis=1)
+    n = n / np.maximum(nn, 1e-300)[:, None]
+    d = P[:, None, :] - A[None]
+    h = np.einsum("nmk,mk->nm", d, n)
+    q = P[:, None, :] - h[..., None] * n[None]
+    inside = np.ones(h.shape, bool)
+    for a, b in ((A, B), (B, C), (C, A)):
+        inside &= np.einsum("nmk,mk->nm", np.cross(b - a, q - a[None]), n) >= 0
+    edges = np.minimum(np.minimum(seg(P, A, B), seg(P, B, C)), seg(P, C, A))
+    return np.where(inside & (nn > 0)[None], np.abs(h), edges)
+
+
+#: most site-triangle pairs the lattice check computes (beyond: checked on a sample)
+MAX_PAIRS = 20_000_000
+
+
+def check_lattices_against_walls(case) -> None:
+    """Lattice fill sites (known before the run) closer to a shaped wall (cone, funnel,
+    cylinder, drum, plate, mesh) than the particle radius: the particles would start cut
+    by the wall and be pushed through it or lost."""
+    for i, p in enumerate(case.particles):
+        if p.fill != "lattice":
+            continue
+        x = p.lattice_sites(f"particles[{i}]")
+        r = p.size.largest
+        for j, w in enumerate(case.walls):
+            if w.kind in ("plane", "box"):
+                continue
+            V, T = w.surface(base_dir=case.base_dir)
+            lo, hi = V.min(0) - r, V.max(0) + r
+            near = x[((x >= lo) & (x <= hi)).all(1)]
+            if len(near) == 0:
+                continue
+            step = max(1, int(len(near) * len(T) // MAX_PAIRS) + 1)
+            near = near[::step]
+            for k in range(0, len(near), 256):
+                P = near[k:k + 256]
+                d = _point_triangle_distance(P, V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]).min(1)
+                if (d < 0.999 * r).any():
+                    s = P[int(np.argmin(d))]
+                    raise GsiInputError(
+                        f"particles[{i}].region: lattice sites cross walls[{j}] ('{w.name}', "
+                        f"a {w.kind}): the site at {np.round(s, 6).tolist()} is {float(d.min()):.3g}"
+                        f" m from it, less than the radius {r:g} m; shrink or move the region "
+                        f"inside the wall")
