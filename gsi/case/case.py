@@ -443,7 +443,7 @@ def load_case(path: str | pathlib.Path) -> Case:
     if not path.is_file():
         raise GsiInputError(f"{path}: no such case file")
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = path.read_bytes().decode("utf-8-sig")      # a byte-order mark is read
     except UnicodeDecodeError as exc:
         raise GsiInputError(f"{path}: not UTF-8 text (byte {exc.start}); save the case file "
                             f"as UTF-8") from None
