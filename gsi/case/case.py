@@ -296,7 +296,7 @@ class Case:
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)
-        sizes.check_sizes(self, dt)
+        size_warnings = sizes.check_sizes(self, dt)
         n_steps = self.run.duration / dt
         if n_steps > 1e10:
             raise GsiInputError(f"run.duration = {self.run.duration}: {n_steps:.2g} DEM steps "
@@ -315,6 +315,8 @@ class Case:
                     q._check_quick_form()
                 except GsiInputError as exc:
                     raise GsiInputError(f"{exc} (with the [quick] overrides)") from None
+        for words in size_warnings:
+            warnings.warn(words, stacklevel=2)
         return dt
 
     def _check_quick_form(self) -> None:

@@ -164,8 +164,11 @@ def check_heat_stability(case, dt: float) -> None:
             s = case.run.heat_time_scale
             fix = (f"lower run.heat_time_scale to <= {s / ratio:.3g}" if s > 1 else
                    f"use run.dt <= {dt / ratio:.3g} s")
+            key = (f"run.heat_time_scale = {s:g}" if s > 1 else
+                   f"dem.h_c = {case.dem.h_c:g}" if case.dem.heat == "constant" else
+                   f"run.dt = {dt:.3g}")
             raise GsiInputError(
-                f"run.heat_time_scale = {s:g}: the explicit heat update is unstable: dt H/(m "
+                f"{key}: the explicit heat update is unstable: dt H/(m "
                 f"c_p/s) = {ratio:.3g} > 1 already for one resting contact of particles[{i}] "
                 f"(dem.heat = '{case.dem.heat}', dt = {dt:.3g} s); {fix} (or dem.force_dt = "
                 f"true to run anyway)")

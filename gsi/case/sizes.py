@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import math
 import os
-import warnings
 
 from gsi.errors import GsiInputError
 
@@ -148,10 +147,12 @@ def _hours(s: float) -> str:
     return f"{s / 3600:.3g} h" if s >= 3600 else f"{s / 60:.3g} min" if s >= 60 else f"{s:.2g} s"
 
 
-def check_sizes(case, dt: float, *, quick: bool = False) -> dict:
+def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
     """Refuse a case whose sizes are beyond the limits (one line with the estimate and the
-    key); warn with the estimated wall time and memory below them. Returns the estimate."""
+    key); below them, return the warnings (estimated wall time and memory) for the caller
+    to give once every check has passed (so a refusal stays one line)."""
     est = estimate(case, dt)
+    said = []
     d = case.run.duration
     q = "quick." if quick else ""
     limit = MAX_QUICK_STEPS if quick else MAX_STEPS
@@ -206,18 +207,17 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> dict:
                 f"structure ({[round(v, 6) for v in box[0]]} to {[round(v, 6) for v in box[1]]})"
                 f" lies wholly outside dem.domain; particles never touch it: move it (m)")
         if dofs > WARN_DOFS and not quick:
-            warnings.warn(f"structures[{i}]: about {dofs:.3g} FE dofs ({how}): expect about "
-                          f"{need / 1e9:.3g} GB and {_hours(dofs * FE_SETUP_S_PER_DOF)} of "
-                          f"set-up", stacklevel=2)
+            said.append(f"structures[{i}]: about {dofs:.3g} FE dofs ({how}): expect about "
+                        f"{need / 1e9:.3g} GB and {_hours(dofs * FE_SETUP_S_PER_DOF)} of set-up")
     if est["memory"] > mem:
         raise GsiInputError(f"{q}particles: about {est['particles']:.3g} particles need about "
                             f"{est['memory'] / 1e9:.3g} GB, more than this machine's "
                             f"{mem / 1e9:.3g} GB; lower the counts")
     if est["wall_s"] > WARN_WALL_S and not quick:
-        warnings.warn(f"run.duration = {d:g}: about {est['steps']:.3g} DEM steps of "
-                      f"{est['particles']:.3g} particles, about {_hours(est['wall_s'])} on one "
-                      f"thread and {est['memory'] / 1e9:.2g} GB", stacklevel=2)
-    return est
+        said.append(f"run.duration = {d:g}: about {est['steps']:.3g} DEM steps of "
+                    f"{est['particles']:.3g} particles, about {_hours(est['wall_s'])} on one "
+                    f"thread and {est['memory'] / 1e9:.2g} GB")
+    return said
 
 
 def summary(est: dict) -> str:

@@ -75,6 +75,9 @@ def _parser() -> argparse.ArgumentParser:
                         "run.checkpoint_interval; 0 = none)")
     r.add_argument("--resume", action="store_true",
                    help="continue from the newest checkpoint under OUT/checkpoints")
+    r.add_argument("--allow-changes", action="store_true",
+                   help="with --resume: continue although the case changed since the "
+                        "checkpoint (the changed keys are printed)")
     return p
 
 
@@ -195,6 +198,11 @@ def _run(args, argv=None) -> int:
         exc.agreed = True
         raise
     out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
+    if args.resume:
+        from gsi.case.fingerprint import check_resume
+        check_resume(case, out, quick=args.quick, allow=args.allow_changes)
+    elif args.allow_changes:
+        raise GsiInputError("--allow-changes: only with --resume")
     try:
         run_case(case, out=out, quick=args.quick, pictures=False if args.no_pictures else None,
                  overwrite=args.overwrite, resume=args.resume,
