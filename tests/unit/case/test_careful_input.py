@@ -278,3 +278,20 @@ def test_resume_of_a_changed_case_is_refused_unless_allowed(tmp_path):
     with pytest.warns(UserWarning, match="--allow-changes: resuming at t = 0.01 s with 1 changed"):
         assert check_resume(changed, tmp_path, quick=False, allow=True) == \
             ["materials.glass.mu: 0.5 -> 0.9"]
+
+
+def test_gsi_run_resume_of_a_changed_case_is_refused_before_it_starts(tmp_path, capsys):
+    case_file = tmp_path / "pour.toml"
+    case_file.write_text(POUR.read_text().replace("mu = 0.5", "mu = 0.9"))
+    out = tmp_path / "out"
+    (out / "checkpoints").mkdir(parents=True)
+    ck.write_manifest(out / "checkpoints", 10, dict(
+        time=0.001, n_ranks=1, dt=1e-4, case="pour", quick=False, sizes=[],
+        fingerprint=fingerprint(load_case(POUR))))
+    rc = main(["run", str(case_file), "--out", str(out), "--resume", "--no-pictures"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.startswith("error: --resume: the case changed since the checkpoint at "
+                                      "t = 0.001 s: materials.glass.mu: 0.5 -> 0.9; ")
+    assert err.rstrip().endswith("or add --allow-changes to continue with the changes")
+    rc = main(["run", str(case_file), "--out", str(out), "--allow-changes", "--no-pictures"])
+    assert rc == 2 and capsys.readouterr().err == "error: --allow-changes: only with --resume\n"
