@@ -293,6 +293,7 @@ class Case:
         case_checks.check_streams(self, dt)
         case_checks.check_radiation(self, dt)
         input_checks.check_heat_stability(self, dt)
+        input_checks.check_friction_stability(self, dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)

@@ -13,7 +13,8 @@ from gsi.case.names import check_name, check_unique_across
 from gsi.errors import GsiInputError
 
 __all__ = ["check_output_names", "check_pairs", "check_planes_and_fills",
-           "check_monitor_regions", "check_heat_stability", "check_lattices_against_walls"]
+           "check_monitor_regions", "check_heat_stability", "check_lattices_against_walls",
+           "check_friction_stability", "MU_CAPPED"]
 
 
 def check_output_names(case) -> None:
@@ -229,3 +230,58 @@ def check_lattices_against_walls(case) -> None:
                         f"a {w.kind}): the site at {np.round(s, 6).tolist()} is {float(d.min()):.3g}"
                         f" m from it, less than the radius {r:g} m; shrink or move the region "
                         f"inside the wall")
+
+
+#: the largest particle-particle friction coefficient at which the Coulomb cap bounds the
+#: tangential (rotational) mode below: the drum demo at dt = 0.23 t_R ran with mu = 1, 3
+#: and 10 and blew up with mu = 30 (step 449) and 100 (step 413)
+MU_CAPPED = 10.0
+
+
+def check_friction_stability(case, dt: float) -> None:
+    """A very high sliding friction (mu > MU_CAPPED) removes the Coulomb cap that bounds
+    the stiffest mode of a packed bed: the counter-rotation of neighbours whose contacts
+    stick. A sphere with four sticking contacts about an axis turns against a rotational
+    stiffness 8 k_t R^2 (each contact point moves 2 R omega relative to its neighbour), so
+    omega_rot = sqrt(8 k_t R^2 / I) = sqrt(20 k_t / m) with I = 2/5 m R^2: about 2.9 x the
+    normal frequency sqrt(S_n/m*) of a pair (k_t = 8 G* a, S_n = 2 E* a). Its damping
+    ratio zeta = 10 gamma_t/(m omega_rot) (gamma_t of the Hertz-Mindlin law) is above
+    1, and an explicit step with the damping force from the current velocity is stable
+    only for omega dt < 2 (sqrt(1 + zeta^2) - zeta). Evaluated at the contact carrying a
+    column of particles over the domain's height (Hertz, Johnson eq. 4.22); beyond it the
+    case is refused, naming the friction key, unless ``dem.force_dt``."""
+    if case.dem.contact != "hertz" or case.dem.force_dt:
+        return
+    from gsi.dem.materials import beta_of_e
+    pairs = {frozenset(p.materials): (j, p) for j, p in enumerate(case.pairs)}
+    g = float(np.linalg.norm(case.dem.gravity))
+    height = max(case.dem.domain_size, 0.0)
+    for i, p in enumerate(case.particles):
+        mat = case.materials[p.material]
+        j, pair = pairs.get(frozenset((p.material,)), (None, None))
+        mu = pair.mu if pair is not None and pair.mu is not None else mat.mu
+        if mu <= MU_CAPPED:
+            continue
+        e = pair.e if pair is not None and pair.e is not None else mat.e
+        key = f"pairs[{j}].mu" if pair is not None and pair.mu is not None else \
+            f"materials.{p.material}.mu"
+        r = case.source_smallest_radius(i)
+        m = mat.rho * 4.0 / 3.0 * math.pi * r ** 3
+        e_star = mat.E / (2.0 * (1.0 - mat.nu ** 2))
+        g_star = mat.E / (4.0 * (2.0 - mat.nu) * (1.0 + mat.nu))
+        force = max(1.0, height / (2.0 * r)) * m * max(g, 1e-12)
+        delta = (3.0 * force / (4.0 * e_star * math.sqrt(0.5 * r))) ** (2.0 / 3.0)
+        a = math.sqrt(0.5 * r * delta)
+        s_n, k_t = 2.0 * e_star * a, 8.0 * g_star * a
+        gamma_t = 2.0 * math.sqrt(5.0 / 6.0) * abs(beta_of_e(e)) * math.sqrt(s_n * 0.5 * m) \
+            * math.sqrt(k_t / s_n)
+        omega = math.sqrt(20.0 * k_t / m)
+        zeta = 10.0 * gamma_t / (m * omega)
+        limit = 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta)
+        if omega * dt > limit:
+            raise GsiInputError(
+                f"{key} = {mu:g}: above {MU_CAPPED:g} the Coulomb cap no longer bounds the "
+                f"sticking contacts of particles[{i}], and the counter-rotation of neighbours (frequency sqrt(20 k_t/m) = "
+                f"{omega:.3g} rad/s, damping ratio {zeta:.2f}) is unstable at dt = {dt:.3g} s "
+                f"(stable below {limit / omega:.3g} s); use run.dt <= {0.9 * limit / omega:.3g} "
+                f"or mu <= {MU_CAPPED:g} (or dem.force_dt = true to run anyway)")

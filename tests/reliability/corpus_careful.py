@@ -94,6 +94,14 @@ def spec(P, D, H, B, T, PLANE, FILE_SRC) -> dict:
         "heat_time_scale_1e9": (T, [T_HOT], "run.heat_time_scale", "check", "heat update unstable at the first contact (stopped at step 690 before)"),
         "heat_radius_time_scale_1e9": (T, [T_HOT, ('heat = "area"', 'heat = "radius"')], "run.heat_time_scale", "check", "the same with the radius model"),
         "heat_constant_hc_huge": (P, [('heat = "none"', 'heat = "constant"\nh_c = 1.0e5')], "dem.h_c", "check", "constant conductance 100 kW/K between 2 mm beads"),
+        # ---- friction beyond the range where the explicit step is stable (drum: mu_pp = 100
+        # blew up at step 413 at dt = 0.23 t_R; mu = 30 at step 449; 1, 3, 10 and mu = 100 at
+        # dt = 7e-5 s ran)
+        "drum_mu_pp_100": (D, [("mu = 0.3\nmu_r", "mu = 100.0\nmu_r")], "materials.grain.mu", "check", "mu_pp = 100 at dt = 0.23 t_R (blew up at step 413)"),
+        "drum_mu_pp_30": (D, [("mu = 0.3\nmu_r", "mu = 30.0\nmu_r")], "materials.grain.mu", "check", "mu_pp = 30 at dt = 0.23 t_R (blew up at step 449)"),
+        "drum_pair_mu_100": (D, [("mu = 0.5\n\n[[particles]]", 'mu = 0.5\n\n[[pairs]]\nmaterials = ["grain", "grain"]\nmu = 100.0\n\n[[particles]]')], "pairs[1].mu", "check", "a grain-grain pair of mu = 100"),
+        "ok_drum_mu_pp_10": (D, [("mu = 0.3\nmu_r", "mu = 10.0\nmu_r")], "-", "ok", "mu_pp = 10 (ran)"),
+        "ok_drum_mu_pp_100_small_dt": (D, [("mu = 0.3\nmu_r", "mu = 100.0\nmu_r"), ("dt = 1.0e-4 ", "dt = 7.0e-5 ")], "-", "ok", "mu_pp = 100 at dt = 0.16 t_R (ran)"),
         "ok_heat_time_scale_1e3": (T, [("heat_time_scale = 200.0", "heat_time_scale = 1000.0")], "-", "ok", "a stable heat-time scale"),
     }
 

@@ -295,3 +295,25 @@ def test_gsi_run_resume_of_a_changed_case_is_refused_before_it_starts(tmp_path, 
     assert err.rstrip().endswith("or add --allow-changes to continue with the changes")
     rc = main(["run", str(case_file), "--out", str(out), "--allow-changes", "--no-pictures"])
     assert rc == 2 and capsys.readouterr().err == "error: --allow-changes: only with --resume\n"
+
+
+DRUM = ROOT / "demos" / "drum.toml"
+
+
+@pytest.mark.parametrize("mu,dt,refused", [(100.0, 1e-4, True), (30.0, 1e-4, True),
+                                           (10.0, 1e-4, False), (100.0, 7e-5, False)])
+def test_friction_beyond_the_stable_range_is_refused_with_the_reason(mu, dt, refused):
+    """The measured drum runs (dt = 1e-4 s = 0.23 t_R): mu_pp = 100 and 30 blew up,
+    10 ran, and 100 ran at dt = 7e-5 s."""
+    t = _table(DRUM)
+    t["materials"]["grain"]["mu"] = mu
+    t["run"]["dt"] = dt
+    if not refused:
+        assert case_from_table(t, base_dir=ROOT / "demos").check() == dt
+        return
+    msg = _error(t)
+    assert msg.startswith(f"materials.grain.mu = {mu:g}: above 10 the Coulomb cap no longer "
+                          "bounds the sticking contacts of particles[0]")
+    assert "use run.dt <= 7.45e-05 or mu <= 10" in msg
+    t["dem"]["force_dt"] = True
+    assert case_from_table(t, base_dir=ROOT / "demos").check() == dt
