@@ -286,14 +286,11 @@ class Case:
         case_checks.check_skin(self)
         case_checks.check_stiffness(self)
         case_checks.check_placed_overlaps(self)
-        input_checks.check_planes_and_fills(self)
-        input_checks.check_monitor_regions(self)
-        input_checks.check_lattices_against_walls(self)
+        input_checks.check_geometry(self)
         dt = self.time_step()
         case_checks.check_streams(self, dt)
         case_checks.check_radiation(self, dt)
-        input_checks.check_heat_stability(self, dt)
-        input_checks.check_friction_stability(self, dt)
+        input_checks.check_stability(self, dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)
@@ -333,7 +330,7 @@ class Case:
         dt = self.time_step()
         case_checks.check_streams(self, dt)
         case_checks.check_radiation(self, dt)
-        input_checks.check_heat_stability(self, dt)
+        input_checks.check_stability(self, dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)

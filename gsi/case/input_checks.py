@@ -14,7 +14,7 @@ from gsi.errors import GsiInputError
 
 __all__ = ["check_output_names", "check_pairs", "check_planes_and_fills",
            "check_monitor_regions", "check_heat_stability", "check_lattices_against_walls",
-           "check_friction_stability", "MU_CAPPED"]
+           "check_friction_stability", "check_geometry", "check_stability", "MU_CAPPED"]
 
 
 def check_output_names(case) -> None:
@@ -285,3 +285,16 @@ def check_friction_stability(case, dt: float) -> None:
                 f"{omega:.3g} rad/s, damping ratio {zeta:.2f}) is unstable at dt = {dt:.3g} s "
                 f"(stable below {limit / omega:.3g} s); use run.dt <= {0.9 * limit / omega:.3g} "
                 f"or mu <= {MU_CAPPED:g} (or dem.force_dt = true to run anyway)")
+
+
+def check_geometry(case) -> None:
+    """The geometric contradictions (planes and fills, monitor regions, lattices and walls)."""
+    check_planes_and_fills(case)
+    check_monitor_regions(case)
+    check_lattices_against_walls(case)
+
+
+def check_stability(case, dt: float) -> None:
+    """The stability bounds known before the run (heat update, very high friction)."""
+    check_heat_stability(case, dt)
+    check_friction_stability(case, dt)

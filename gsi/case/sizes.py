@@ -45,33 +45,37 @@ def _memory_bytes() -> float:
         return math.inf
 
 
-def structure_dofs(st, base_dir) -> tuple[float, str, float | None] | None:
-    """(estimated dofs, how, largest extent in m or None) of a structure, or None when not estimable before building.
-    A gmsh file: the mesh size h measured on its curves (a 1D mesh, cheap) and its
-    bounding box: a surface mesh of size h has about A/(0.87 h^2) vertices on the box's
-    area A; P2 adds about 3 edge nodes per vertex; 3 dofs per node. This counts the
-    surface only (a lower bound for a bulky body). The shell builder: its own estimate."""
+def structure_dofs(st, base_dir) -> dict | None:
+    """The estimated size of a structure before it is built, or None when unknown:
+    ``dofs``, ``how`` (words), and for a gmsh file its bounding box ``box`` ((lo, hi), m,
+    after ``translate``) and largest ``extent`` (m). A gmsh file: the mesh size h measured
+    on its curves (a 1D mesh, cheap) and its bounding box: a surface mesh of size h has
+    about A/(0.87 h^2) vertices on the box's area A; P2 adds about 3 edge nodes per vertex;
+    3 dofs per node. This counts the surface only (a lower bound for a bulky body). The
+    shell builder: its own estimate."""
     if st.mesh == "shell":
         from gsi.meshes.shell import estimate_dofs
-        return float(estimate_dofs(**st.geometry)), "the shell builder's estimate", None
+        return dict(dofs=float(estimate_dofs(**st.geometry)),
+                    how="the shell builder's estimate", box=None, extent=None)
     if st.file is None or not st.file_path(base_dir).is_file():
         return None
     found = _probe(st.file_path(base_dir), st.geometry)
     if found is None:
         return None
-    (dx, dy, dz), h = found
-    st_extent = max(dx, dy, dz)
-    st.probed_box = tuple(tuple(float(a) + float(t) for a, t in zip(c, st.translate))
-                          for c in _probe.box)
+    lo, hi, h = found
+    dx, dy, dz = (b - a for a, b in zip(lo, hi))
     area = 2.0 * (dx * dy + dy * dz + dz * dx)
     vertices = area / (0.866 * h * h)
     per = 4.0 if st.degree == 2 else 1.0
-    return (3.0 * per * vertices,
-            f"mesh size h = {h:.3g} m over a {dx:.3g} x {dy:.3g} x {dz:.3g} m body", st_extent)
+    shift = [float(t) for t in st.translate]
+    return dict(dofs=3.0 * per * vertices,
+                how=f"mesh size h = {h:.3g} m over a {dx:.3g} x {dy:.3g} x {dz:.3g} m body",
+                box=([a + t for a, t in zip(lo, shift)], [b + t for b, t in zip(hi, shift)]),
+                extent=max(dx, dy, dz))
 
 
-def _probe(path, params) -> tuple[tuple[float, float, float], float] | None:
-    """(bounding-box extents, mean curve mesh size) of a gmsh file, from a 1D mesh whose
+def _probe(path, params) -> tuple[list, list, float] | None:
+    """(bounding-box lo, hi, mean curve mesh size) of a gmsh file, from a 1D mesh whose
     size is floored at 1/5000 of the box diagonal (so the probe itself stays cheap)."""
     import gmsh
     gmsh.initialize()
@@ -89,13 +93,13 @@ def _probe(path, params) -> tuple[tuple[float, float, float], float] | None:
         gmsh.open(str(path))
         x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(-1, -1)
         ext = (x1 - x0, y1 - y0, z1 - z0)
-        _probe.box = ((x0, y0, z0), (x1, y1, z1))
+        box = [x0, y0, z0], [x1, y1, z1]
         diag = math.sqrt(sum(e * e for e in ext))
         if not (diag > 0 and math.isfinite(diag)):
             return None
         if path.suffix.lower() == ".msh":
             n = len(gmsh.model.mesh.getNodes()[0])
-            return ext, diag / max(1.0, math.sqrt(n))
+            return (*box, diag / max(1.0, math.sqrt(n)))
         gmsh.option.setNumber("Mesh.MeshSizeMin", diag / 5000.0)
         gmsh.model.mesh.generate(1)
         length, segments = 0.0, 0
@@ -111,7 +115,7 @@ def _probe(path, params) -> tuple[tuple[float, float, float], float] | None:
                 segments += k
         if segments == 0:
             return None
-        return ext, length / segments
+        return (*box, length / segments)
     except Exception:     # a file gmsh cannot probe: the build reports it
         return None
     finally:
@@ -138,8 +142,8 @@ def estimate(case, dt: float) -> dict:
         got = structure_dofs(st, case.base_dir) if st.has_elasticity or st.has_heat else None
         if got is not None:
             est["dofs"][i] = got
-            est["memory"] += got[0] * FE_BYTES_PER_DOF
-            est["wall_s"] += got[0] * FE_SETUP_S_PER_DOF
+            est["memory"] += got["dofs"] * FE_BYTES_PER_DOF
+            est["wall_s"] += got["dofs"] * FE_SETUP_S_PER_DOF
     return est
 
 
@@ -188,7 +192,8 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
                                 f"(limit {MAX_MONITOR_ROWS:.0e}); raise it")
     mem = _memory_bytes()
     size = case.dem.domain_size
-    for i, (dofs, how, extent) in est["dofs"].items():
+    for i, got in est["dofs"].items():
+        dofs, how, extent, box = got["dofs"], got["how"], got["extent"], got["box"]
         if extent is not None and extent > 100 * size:
             raise GsiInputError(
                 f"{q}structures[{i}].geometry: the structure is {extent:.3g} m across, over 100 x "
@@ -199,7 +204,6 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
                 f"{q}structures[{i}]: about {dofs:.3g} FE dofs ({how}) need about "
                 f"{need / 1e9:.3g} GB, more than this machine's {mem / 1e9:.3g} GB; raise the "
                 f"mesh size (structures[{i}].geometry: h) or check its units (m)")
-        box = getattr(case.structures[i], "probed_box", None)
         if box is not None and (any(h < lo for h, lo in zip(box[1], case.dem.domain_lo)) or
                                 any(lo > h for lo, h in zip(box[0], case.dem.domain_hi))):
             raise GsiInputError(
@@ -222,7 +226,7 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
 
 def summary(est: dict) -> str:
     """One line of the estimate for ``gsi check``."""
-    dofs = sum(v[0] for v in est["dofs"].values())
+    dofs = sum(v["dofs"] for v in est["dofs"].values())
     fe = f", about {dofs:.3g} FE dofs" if est["dofs"] else ""
     return (f"estimate: {est['particles']:.3g} particles, {est['steps']:.3g} DEM steps, "
             f"{est['outputs']:.3g} outputs, {est['checkpoints']:.3g} checkpoints{fe}; about "
