@@ -4,7 +4,9 @@ Input errors print one line ``error: <key> = <value>: <what is allowed>`` and ex
 status 2, never a traceback; a run that blows up (or cannot write its files) prints its
 diagnosis and exits with 3. Warnings print as one line ``warning: ...``. ``gsi run`` refuses
 an ``--out`` holding an earlier run's outputs unless ``--overwrite`` (start again) or
-``--resume`` (continue from its newest checkpoint).
+``--resume`` (continue from its newest checkpoint; a case changed since then is refused
+with the changed keys unless ``--allow-changes``). ``gsi check`` prints the case's size
+estimate (:mod:`gsi.case.sizes`).
 SIGINT/SIGTERM during ``gsi run`` write a checkpoint and print one line
 ``interrupted at t = ...; checkpoint written; resume with gsi run ... --resume``, exit
 status 130/143. Under MPI, rank 0 alone prints an error every rank shares; an error on
