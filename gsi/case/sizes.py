@@ -31,6 +31,9 @@ MAX_QUICK_STEPS = 1e7
 MAX_CHECKPOINTS = 1000
 MAX_CELLS = 10_000_000
 MAX_MONITOR_ROWS = 10_000_000
+#: refused when the estimated memory exceeds this many times the machine's (a case may be
+#: prepared on a smaller machine than the one it runs on; beyond this it is a unit slip)
+MEMORY_FACTOR = 4.0
 #: a warning when the estimated wall time exceeds this (s)
 WARN_WALL_S = 6 * 3600.0
 #: a warning when the FE set-up needs more dofs than this
@@ -199,11 +202,12 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
                 f"{q}structures[{i}].geometry: the structure is {extent:.3g} m across, over 100 x "
                 f"the domain ({size:.3g} m); did you give mm? lengths are in m")
         need = dofs * FE_BYTES_PER_DOF
-        if need > mem:
+        if need > MEMORY_FACTOR * mem:
             raise GsiInputError(
                 f"{q}structures[{i}]: about {dofs:.3g} FE dofs ({how}) need about "
-                f"{need / 1e9:.3g} GB, more than this machine's {mem / 1e9:.3g} GB; raise the "
-                f"mesh size (structures[{i}].geometry: h) or check its units (m)")
+                f"{need / 1e9:.3g} GB, over {MEMORY_FACTOR:g} x this machine's "
+                f"{mem / 1e9:.3g} GB; raise the mesh size (structures[{i}].geometry: h) or "
+                f"check its units (m)")
         if box is not None and (any(h < lo for h, lo in zip(box[1], case.dem.domain_lo)) or
                                 any(lo > h for lo, h in zip(box[0], case.dem.domain_hi))):
             raise GsiInputError(
@@ -213,9 +217,10 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
         if dofs > WARN_DOFS and not quick:
             said.append(f"structures[{i}]: about {dofs:.3g} FE dofs ({how}): expect about "
                         f"{need / 1e9:.3g} GB and {_hours(dofs * FE_SETUP_S_PER_DOF)} of set-up")
-    if est["memory"] > mem:
+    dem_bytes = est["particles"] * BYTES_PER_PARTICLE
+    if dem_bytes > MEMORY_FACTOR * mem:
         raise GsiInputError(f"{q}particles: about {est['particles']:.3g} particles need about "
-                            f"{est['memory'] / 1e9:.3g} GB, more than this machine's "
+                            f"{dem_bytes / 1e9:.3g} GB, over {MEMORY_FACTOR:g} x this machine's "
                             f"{mem / 1e9:.3g} GB; lower the counts")
     if est["wall_s"] > WARN_WALL_S and not quick:
         said.append(f"run.duration = {d:g}: about {est['steps']:.3g} DEM steps of "
