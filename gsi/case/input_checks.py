@@ -14,7 +14,8 @@ from gsi.errors import GsiInputError
 
 __all__ = ["check_output_names", "check_pairs", "check_planes_and_fills",
            "check_monitor_regions", "check_heat_stability", "check_lattices_against_walls",
-           "check_friction_stability", "check_geometry", "check_stability", "MU_CAPPED"]
+           "check_friction_stability", "check_geometry", "check_stability", "check_lengths",
+           "MU_CAPPED"]
 
 
 def check_output_names(case) -> None:
@@ -289,6 +290,7 @@ def check_friction_stability(case, dt: float) -> None:
 
 def check_geometry(case) -> None:
     """The geometric contradictions (planes and fills, monitor regions, lattices and walls)."""
+    check_lengths(case)
     check_planes_and_fills(case)
     check_monitor_regions(case)
     check_lattices_against_walls(case)
@@ -298,3 +300,40 @@ def check_stability(case, dt: float) -> None:
     """The stability bounds known before the run (heat update, very high friction)."""
     check_heat_stability(case, dt)
     check_friction_stability(case, dt)
+
+
+def check_lengths(case) -> None:
+    """Every scalar length of the case (a key of unit m, and a builder's geometry number)
+    within 100 x the domain's diagonal: beyond it is a unit slip ("did you give mm?")."""
+    import dataclasses
+    dlo, dhi = np.asarray(case.dem.domain_lo, float), np.asarray(case.dem.domain_hi, float)
+    size = float(np.linalg.norm(dhi - dlo))
+
+    def refuse(key, v):
+        raise GsiInputError(f"{key} = {v:g}: over 100 x the domain's diagonal ({size:.3g} m); "
+                            f"did you give mm? lengths are in m")
+
+    def walk(obj, path):
+        for f in dataclasses.fields(obj):
+            if not f.init:
+                continue
+            v = getattr(obj, f.name)
+            key = f"{path}.{f.name}" if path else f.name
+            if dataclasses.is_dataclass(v):
+                walk(v, key)
+            elif isinstance(v, list) and v and dataclasses.is_dataclass(v[0]):
+                for i, item in enumerate(v):
+                    walk(item, f"{key}[{i}]")
+            elif isinstance(v, dict) and v and all(dataclasses.is_dataclass(x) for x in v.values()):
+                for k, item in v.items():
+                    walk(item, f"{key}.{k}")
+            elif (f.metadata.get("unit") == "m" and isinstance(v, float)
+                  and abs(v) > 100.0 * size):
+                refuse(key, v)
+    walk(case, "")
+    for i, st in enumerate(case.structures):
+        if st.mesh is None:
+            continue
+        for k, v in st.geometry.items():
+            if isinstance(v, float) and abs(v) > 100.0 * size:
+                refuse(f"structures[{i}].geometry.{k}", v)

@@ -34,6 +34,8 @@ def spec(P, D, H, B, T, PLANE, FILE_SRC) -> dict:
         "k_absurd": (P, [("k = 1.0", "k = 1.0e6")], "materials.glass.k", "check", "conductivity 1e6 W/(m K)"),
         "structure_k_tiny": (T, [('material = "steel"      # E 210', 'k = 1.0e-6\nmaterial = "steel"      # E 210')], "structures[0].k", "check", "structure conductivity 1e-6"),
         "geo_overrides_in_mm": (B, [("length = 0.8, width = 0.3, thickness = 0.02", "length = 800.0, width = 300.0, thickness = 20.0")], "structures[0].geometry", "check", ".geo overrides in mm: 800 m across"),
+        "membrane_radius_in_mm": (H, [("radius = 0.3, thickness", "radius = 300.0, thickness")], "structures[0].geometry.radius", "check", "a builder's radius in mm"),
+        "pipe_length_in_mm": (P, [('heat = "none"', 'heat = "pipe"\npipe_length = 60.0')], "dem.pipe_length", "check", "the pipe model's slab thickness in mm"),
         # ---- names that are paths
         "monitor_name_escapes": (P, [('name = "bed"', 'name = "../../escaped"')], "monitors[1].name", "check", "monitor writes ../../escaped.csv"),
         "monitor_name_empty": (P, [('name = "bed"', 'name = ""')], "monitors[1].name", "check", "empty monitor name"),
