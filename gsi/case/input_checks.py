@@ -221,8 +221,9 @@ def check_lattices_against_walls(case) -> None:
                 continue
             step = max(1, int(len(near) * len(T) // MAX_PAIRS) + 1)
             near = near[::step]
-            for k in range(0, len(near), 256):
-                P = near[k:k + 256]
+            chunk = max(1, 2_000_000 // len(T))       # bounded temporary arrays
+            for k in range(0, len(near), chunk):
+                P = near[k:k + chunk]
                 d = _point_triangle_distance(P, V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]).min(1)
                 if (d < 0.999 * r).any():
                     s = P[int(np.argmin(d))]
