@@ -6,6 +6,8 @@ At ``builder-inited`` this extension writes, under ``docs/_generated/`` (not com
 * ``validation.md`` -- the table of ``tests/validation/results.json``, written by the
   test run's ``record_validation`` fixture (tests/conftest.py); a note when it is missing;
 * ``performance.md`` -- the tables of ``benchmarks/results/*.json``;
+* ``reliability.md`` -- the bad-input corpus (``tests/reliability/cases``) counted by
+  expected outcome;
 * ``gallery/*.md`` -- each demo of ``demos/``: a literate script (``demos/<name>.py``,
   comments in Markdown, dolfinx style) becomes prose and code cells, followed by its TOML
   twin; a TOML-only demo shows its file; both with the committed picture
@@ -297,9 +299,36 @@ def copy_mathjax() -> None:
             _copy(src, dst / part)
 
 
+# ---------------------------------------------------------------- reliability
+#: outcome of a corpus case (its header's ``via``) -> the words of the table
+OUTCOMES = {"check": "refused by `gsi check`, one line naming the key",
+            "run": "refused by `gsi run` at set-up, one line naming the key",
+            "warn": "accepted with one warning line naming the key",
+            "ok": "valid input, accepted silently"}
+
+
+def corpus_counts(cases: pathlib.Path = ROOT / "tests" / "reliability" / "cases") -> dict:
+    """{outcome: number of cases} of the bad-input corpus, from each file's first line
+    ``# expect: KEY | via: OUTCOME | what``."""
+    counts = {k: 0 for k in OUTCOMES}
+    for path in sorted(cases.glob("*.toml")):
+        first = path.read_bytes().split(b"\n", 1)[0].decode("utf-8", "replace").lstrip("\ufeff")
+        via = first.split(" | ")[1].removeprefix("via: ").strip()
+        counts[via] = counts.get(via, 0) + 1
+    return counts
+
+
+def reliability_page() -> str:
+    counts = corpus_counts()
+    rows = [f"| {OUTCOMES.get(k, k)} | {n} |" for k, n in counts.items()]
+    return "\n".join(["| expected outcome | cases |", "|---|---|", *rows,
+                      f"| **total** | **{sum(counts.values())}** |", ""])
+
+
 def generate(app=None) -> None:
     GEN.mkdir(exist_ok=True)
     _write(GEN / "keys.md", keys_page())
+    _write(GEN / "reliability.md", reliability_page())
     _write(GEN / "validation.md", validation_page())
     _write(GEN / "performance.md", performance_page())
     for rel, text in gallery_pages().items():

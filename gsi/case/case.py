@@ -78,6 +78,8 @@ from gsi.dem.materials import (DT_DEFAULT, DT_LINEAR_DEFAULT, DT_LINEAR_REFUSE, 
 from gsi.case.sources import MAX_OVERLAP  # noqa: E402  (the sources check it; one constant)
 from gsi.case import case_checks  # noqa: E402
 from gsi.case.case_checks import MAX_IMPACT_OVERLAP, MAX_SKIN  # noqa: E402,F401
+from gsi.case import input_checks, sizes  # noqa: E402
+from gsi.case.input_checks import check_output_names  # noqa: E402
 #: more particles than this in one case is refused before any allocation
 MAX_PARTICLES = 20_000_000
 
@@ -137,6 +139,7 @@ class Case:
                     raise GsiInputError(f"{section}[{i}].name = {name!r}: already used by "
                                         f"{section}[{seen[name]}]; names must be unique")
                 seen[name] = i
+        check_output_names(self)
         if not self.particles:
             raise GsiInputError("particles: missing; give at least one [[particles]] table")
         if self.dem.radiation:
@@ -283,12 +286,15 @@ class Case:
         case_checks.check_skin(self)
         case_checks.check_stiffness(self)
         case_checks.check_placed_overlaps(self)
+        input_checks.check_geometry(self)
         dt = self.time_step()
         case_checks.check_streams(self, dt)
         case_checks.check_radiation(self, dt)
+        input_checks.check_stability(self, dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)
+        size_warnings = sizes.check_sizes(self, dt)
         n_steps = self.run.duration / dt
         if n_steps > 1e10:
             raise GsiInputError(f"run.duration = {self.run.duration}: {n_steps:.2g} DEM steps "
@@ -307,6 +313,8 @@ class Case:
                     q._check_quick_form()
                 except GsiInputError as exc:
                     raise GsiInputError(f"{exc} (with the [quick] overrides)") from None
+        for words in size_warnings:
+            warnings.warn(words, stacklevel=2)
         return dt
 
     def _check_quick_form(self) -> None:
@@ -322,9 +330,11 @@ class Case:
         dt = self.time_step()
         case_checks.check_streams(self, dt)
         case_checks.check_radiation(self, dt)
+        input_checks.check_stability(self, dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)
+        sizes.check_sizes(self, dt, quick=True)
         if self.output.interval < dt:
             raise GsiInputError(f"output.interval = {self.output.interval}: shorter than the "
                                 f"DEM step {dt:.3g} s")
@@ -433,7 +443,7 @@ def load_case(path: str | pathlib.Path) -> Case:
     if not path.is_file():
         raise GsiInputError(f"{path}: no such case file")
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = path.read_bytes().decode("utf-8-sig")      # a byte-order mark is read
     except UnicodeDecodeError as exc:
         raise GsiInputError(f"{path}: not UTF-8 text (byte {exc.start}); save the case file "
                             f"as UTF-8") from None

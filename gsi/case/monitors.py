@@ -84,6 +84,14 @@ class Monitor:
             if getattr(self, key) is None:
                 raise GsiInputError(f"{path}.{key}: missing; a '{self.kind}' monitor needs "
                                     f"{', '.join(need)}")
+        uses = {"wall": ("target", "point"), "structure": ("target",),
+                "discharge": ("point", "normal"), "temperature": ("group", "region"),
+                "particles": (), "mixing": ("group", "region", "cells", "min_count")}[self.kind]
+        for key in ("target", "group", "region", "cells", "normal"):
+            if getattr(self, key) is not None and key not in uses:
+                raise GsiInputError(f"{path}.{key}: a '{self.kind}' monitor does not use it "
+                                    f"(it uses {', '.join(uses) or 'no options'}); remove it "
+                                    f"or change {path}.kind")
         if self.kind == "temperature" and (self.group is None) == (self.region is None):
             raise GsiInputError(f"{path}: a 'temperature' monitor needs exactly one of group "
                                 f"or region")

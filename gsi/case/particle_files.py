@@ -35,12 +35,18 @@ def read_particle_file(path, *, key: str = "file", shown: str | None = None) -> 
         raise GsiInputError(f"{key}: holds no particles")
     if not (np.isfinite(x).all() and np.isfinite(r).all() and (r > 0).all()):
         raise GsiInputError(f"{key}: positions must be finite and radii > 0 (m)")
+    if out["T"] is not None and len(out["T"]):
+        from gsi.config.schema import SANE
+        for T in (float(np.min(out["T"])), float(np.max(out["T"]))):
+            found = SANE["K"].verdict(T, "K") if T > 0 else ("error", "must be > 0 (K)")
+            if found is not None and found[0] == "error":
+                raise GsiInputError(f"{key}: column T holds {T:g}: {found[1]}")
     return out
 
 
 def _read_csv(path, key) -> dict:
     try:
-        with open(path, newline="") as fh:
+        with open(path, newline="", encoding="utf-8-sig") as fh:   # a BOM (Excel) is read
             rows = list(csv.reader(row for row in fh if row.strip() and not row.startswith("#")))
     except (OSError, UnicodeDecodeError) as exc:
         raise GsiInputError(f"{key}: cannot read ({exc})") from None
@@ -51,6 +57,12 @@ def _read_csv(path, key) -> dict:
     if missing:
         raise GsiInputError(f"{key}: header {head} lacks {', '.join(missing)}; "
                             "columns x,y,z,radius (m) and optional vx,vy,vz,T")
+    for k, row in enumerate(rows[1:]):
+        if len(row) != len(head) or any(not v.strip() for v in row):
+            given = sum(1 for v in row if v.strip())
+            raise GsiInputError(f"{key}: data row {k + 1} has {given} values but the header "
+                                f"names {len(head)} columns ({','.join(head)}); give every "
+                                f"row all of them, or drop the column from the header")
     try:
         data = np.array([[float(v) for v in row] for row in rows[1:]], float).reshape(-1, len(head))
     except ValueError as exc:

@@ -5,6 +5,7 @@ import re
 from dataclasses import dataclass
 from typing import Optional
 
+from gsi.case.names import MAX_NAME
 from gsi.config.schema import Check, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
@@ -12,7 +13,8 @@ __all__ = ["CaseInfo", "Run", "Dem", "Output", "CONTACT_LAWS", "HEAT_MODELS"]
 
 CONTACT_LAWS = ("hertz", "linear")
 HEAT_MODELS = ("none", "area", "radius", "constant", "pipe")
-#: a case name is used in file names: letters, digits, '_', '-', '.' (no path separators)
+#: a case name is used in file names: letters, digits, '_', '-', '.' (no path separators);
+#: the one rule of every output name (gsi.case.names)
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
 
 
@@ -24,7 +26,7 @@ class CaseInfo:
     description: str = param("", doc="free text")
 
     def validate(self, path: str) -> None:
-        if not _NAME.match(self.name):
+        if not _NAME.match(self.name) or len(self.name) > MAX_NAME:
             raise GsiInputError(f"{path}.name = {self.name!r}: use letters, digits, '_', '-' "
                                 f"or '.' only (it becomes a directory name)")
 

@@ -105,7 +105,7 @@ class Load:
     """A uniform surface traction on a tag (``[[structures.loads]]``)."""
 
     tag: str = param(doc="surface tag the traction acts on")
-    traction: Vec3 = param(unit="Pa", length=3, doc="traction vector (force per area)")
+    traction: Vec3 = param(unit="Pa", length=3, sane=False, doc="traction vector (force per area)")
 
 
 @dataclass(kw_only=True)

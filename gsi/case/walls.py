@@ -50,6 +50,7 @@ A runner applies a schedule exactly by stepping to each event time
 from __future__ import annotations
 
 import dataclasses
+import math
 import pathlib
 from dataclasses import dataclass
 from typing import Optional
@@ -66,6 +67,8 @@ __all__ = ["Motion", "MotionEvent", "Wall", "WALL_KINDS", "MOTION_KINDS", "RPM",
 Vec3 = tuple[float, ...]
 WALL_KINDS = ("plane", "box", "mesh", "cone", "funnel", "cylinder", "drum", "plate")
 _AXIAL = ("cone", "funnel", "cylinder", "drum")
+#: most vertices around the axis of a round wall (its triangles grow as facets^2)
+MAX_FACETS = 4096
 
 
 def _unit(v, key) -> np.ndarray:
@@ -175,6 +178,13 @@ class Wall:
                 _unit(getattr(self, key), f"{p}{key}")
         if self.kind in _AXIAL and self.facets < 8:
             raise GsiInputError(f"{p}facets = {self.facets}: must be >= 8")
+        if self.kind in _AXIAL and self.facets > MAX_FACETS:
+            r = self.radius if self.radius is not None else self.top_radius
+            rings = max(1.0, self.length / (2 * math.pi * r / self.facets)) \
+                if (r and self.length) else 1.0
+            raise GsiInputError(f"{p}facets = {self.facets}: above {MAX_FACETS}; the {self.kind} "
+                                f"would have about {2 * self.facets * rings:.3g} triangles; "
+                                f"48-256 resolve a round wall")
         if self.kind == "box" and any(h <= l for l, h in zip(self.lo, self.hi)):
             raise GsiInputError(f"{p}hi = {list(self.hi)}: must exceed lo = {list(self.lo)} in "
                                 "every component (m)")

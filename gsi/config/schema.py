@@ -19,11 +19,13 @@ import difflib
 import math
 import types
 import typing
+import warnings
 from typing import Any, Callable
 
 from gsi.errors import GsiInputError
 
-__all__ = ["param", "load", "Check", "positive", "nonnegative", "between", "one_of"]
+__all__ = ["param", "load", "Check", "positive", "nonnegative", "between", "one_of", "Sane",
+           "SANE"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -53,10 +55,60 @@ def one_of(*choices: str) -> Check:
     return Check(lambda v: v in choices, "must be one of " + ", ".join(repr(c) for c in choices))
 
 
+@dataclasses.dataclass(frozen=True)
+class Sane:
+    """The sane range of one physical quantity: a value outside [lo, hi] is refused (one
+    line naming the key, the range and, via ``slips``, the unit the user probably typed);
+    a value below ``warn_below`` gives a warning with ``warn_says``. Zero is left to the
+    field's own check (0 often means "off")."""
+
+    lo: float
+    hi: float
+    what: str
+    #: (factor, unit): "did you give <unit>?" when value x factor lands inside [lo, hi]
+    slips: tuple = ()
+    warn_below: float | None = None
+    warn_says: str = ""
+
+    def verdict(self, v: float, unit: str) -> tuple[str, str] | None:
+        """('error' or 'warning', words) for value ``v``, or None when it is sane."""
+        a = abs(v)
+        if v == 0 or not math.isfinite(v):
+            return None
+        if a < self.lo or a > self.hi:
+            words = f"outside {self.lo:g} to {self.hi:g} {unit} for {self.what}"
+            for factor, other in self.slips:
+                if self.lo <= a * factor <= self.hi:
+                    return "error", (f"{words}; did you give {other}? ({v:g} {other} = "
+                                     f"{v * factor:g} {unit})")
+            return "error", f"{words}; check the value and its unit"
+        if self.warn_below is not None and a < self.warn_below:
+            return "warning", self.warn_says.format(v=v, unit=unit, kelvin=f"{v + 273.15:g}")
+        return None
+
+
+#: the sane range of every quantity, by unit: every scalar key of that unit gets it
+#: (``param(sane=False)`` opts out, e.g. a traction in Pa that is not a modulus)
+SANE = {
+    "Pa": Sane(1e4, 1e13, "a Young's modulus", slips=((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa"))),
+    "kg/m^3": Sane(10.0, 3e4, "a density", slips=((1e3, "g/cm^3"),)),
+    "K": Sane(1.0, 5000.0, "a temperature", slips=(),
+              warn_below=200.0,
+              warn_says="below 200 K; did you give \u00b0C? ({v:g} \u00b0C = {kelvin} K); "
+                        "temperatures are in K"),
+    "W/(m K)": Sane(1e-3, 1e4, "a thermal conductivity", slips=()),
+    "J/(kg K)": Sane(10.0, 1e5, "a specific heat capacity",
+                     slips=((1e3, "kJ/(kg K)"),)),
+}
+
+
 def param(default: Any = dataclasses.MISSING, *, unit: str = "", check: Check | None = None,
-          length: int | None = None, doc: str = "", default_factory: Any = dataclasses.MISSING):
-    """A dataclass field with a unit, a check, a vector length and a doc line."""
-    meta = {"unit": unit, "check": check, "length": length, "doc": doc}
+          length: int | None = None, doc: str = "", default_factory: Any = dataclasses.MISSING,
+          sane: bool = True):
+    """A dataclass field with a unit, a check, a vector length and a doc line. A scalar
+    of a unit in :data:`SANE` gets that quantity's sane range (``sane=False``: none)."""
+    meta = {"unit": unit, "check": check, "length": length, "doc": doc,
+            "sane": SANE.get(unit) if sane else None}
     if default_factory is not dataclasses.MISSING:
         return dataclasses.field(default_factory=default_factory, metadata=meta)
     return dataclasses.field(default=default, metadata=meta)
@@ -116,6 +168,8 @@ def _convert(tp: Any, value: Any, path: str, meta: dict) -> Any:
         if not isinstance(value, (list, tuple)) or not all(
                 isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
             raise _fail(path, value, "must be a list of numbers", unit)
+        if item is int and not all(isinstance(v, int) for v in value):
+            raise _fail(path, value, "must be a list of integers (counts)", unit)
         n = meta.get("length")
         if n is not None and len(value) != n:
             raise _fail(path, value, f"must have {n} components", unit)
@@ -157,6 +211,20 @@ def _check(value: Any, raw: Any, path: str, meta: dict) -> None:
             raise _fail(path, raw, check.says, meta.get("unit", ""))
 
 
+def _sane(value: Any, raw: Any, path: str, meta: dict) -> None:
+    """The quantity's sane range (:class:`Sane`): a one-line error or warning."""
+    sane: Sane | None = meta.get("sane")
+    if sane is None or not isinstance(value, float):
+        return
+    found = sane.verdict(value, meta.get("unit", ""))
+    if found is None:
+        return
+    level, words = found
+    if level == "error":
+        raise _fail(path, raw, words)
+    warnings.warn(f"{path} = {_fmt(raw)}: {words}", stacklevel=4)
+
+
 def load(cls: type, table: dict, path: str = "") -> Any:
     """Build dataclass ``cls`` from a TOML ``table``; ``path`` prefixes key names in errors."""
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
@@ -173,6 +241,7 @@ def load(cls: type, table: dict, path: str = "") -> Any:
         if name in table:
             value = _convert(hints[name], table[name], key_path, dict(f.metadata))
             _check(value, table[name], key_path, dict(f.metadata))
+            _sane(value, table[name], key_path, dict(f.metadata))
             kwargs[name] = value
         elif f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
             unit = f.metadata.get("unit", "")

@@ -70,7 +70,8 @@ def check_heat(ratio: float, step: int, *, force: bool, warned: bool) -> bool:
     if ratio > 1.0 and not force:
         raise GsiRunError(
             f"heat: dt sum H/(m c_p) = {ratio:.3g} > 1 at step {step}: the explicit "
-            "heat update is unstable; reduce dt, the conductivity, or pass force_dt=True")
+            "heat update is unstable; reduce run.dt, the conductivity or run.heat_time_scale, "
+            "or set dem.force_dt = true (force_dt=True in Python)")
     if ratio > 0.5 and not warned:
         warnings.warn(f"heat: dt sum H/(m c_p) = {ratio:.3g} (stable below 1)")
         return True

@@ -23,15 +23,16 @@ class Checkpointer:
     ``comm``/``root``: the MPI communicator and the DEM rank; ``every``: steps between
     checkpoints (None: none); ``minutes``: wall-clock minutes between checkpoints (0:
     none); ``dt``: the DEM step (s); ``manifest``: what the manifest records of the run
-    (case name, quick)."""
+    (case name, quick, the case's ``fingerprint``, :mod:`gsi.case.fingerprint`)."""
 
     def __init__(self, comm, root: int, out, *, every: int | None, minutes: float, dt: float,
-                 case_name: str, quick: bool):
+                 case_name: str, quick: bool, fingerprint: dict | None = None):
         self.comm, self.root, self.is_root = comm, root, comm.rank == root
         self.directory = out / "checkpoints"
         self.out = out
         self.every, self.minutes, self.dt = every, minutes, dt
         self.case_name, self.quick = case_name, quick
+        self.fingerprint = fingerprint    # gsi.case.fingerprint: checked by gsi run --resume
         self.seconds = []          # wall-clock duration of each write (s)
         self.signum = 0
         self.last_step, self.last_wall = 0, time.perf_counter()
@@ -132,7 +133,8 @@ class Checkpointer:
             try:
                 ck.write_manifest(directory, k, dict(
                     time=k * self.dt, n_ranks=self.comm.size, dt=self.dt,
-                    case=self.case_name, quick=self.quick, sizes=[s for _, s in gathered]))
+                    case=self.case_name, quick=self.quick, sizes=[s for _, s in gathered],
+                    fingerprint=self.fingerprint))
                 ck.prune(directory)
             except OSError as exc:
                 err = f"checkpoint at t = {k * self.dt:.6g} s: cannot write {directory} ({exc})"

@@ -4,7 +4,9 @@ Input errors print one line ``error: <key> = <value>: <what is allowed>`` and ex
 status 2, never a traceback; a run that blows up (or cannot write its files) prints its
 diagnosis and exits with 3. Warnings print as one line ``warning: ...``. ``gsi run`` refuses
 an ``--out`` holding an earlier run's outputs unless ``--overwrite`` (start again) or
-``--resume`` (continue from its newest checkpoint).
+``--resume`` (continue from its newest checkpoint; a case changed since then is refused
+with the changed keys unless ``--allow-changes``). ``gsi check`` prints the case's size
+estimate (:mod:`gsi.case.sizes`).
 SIGINT/SIGTERM during ``gsi run`` write a checkpoint and print one line
 ``interrupted at t = ...; checkpoint written; resume with gsi run ... --resume``, exit
 status 130/143. Under MPI, rank 0 alone prints an error every rank shares; an error on
@@ -75,6 +77,9 @@ def _parser() -> argparse.ArgumentParser:
                         "run.checkpoint_interval; 0 = none)")
     r.add_argument("--resume", action="store_true",
                    help="continue from the newest checkpoint under OUT/checkpoints")
+    r.add_argument("--allow-changes", action="store_true",
+                   help="with --resume: continue although the case changed since the "
+                        "checkpoint (the changed keys are printed)")
     return p
 
 
@@ -174,11 +179,14 @@ def _check(args) -> int:
         return 0
     if not args.case:
         raise GsiInputError("check: give a case file (gsi check CASE.toml) or --keys")
+    from gsi.case.sizes import estimate, summary
     case = load_case(args.case)
     dt = case.check()
+    est = summary(estimate(case, dt))
     print(f"{args.case}: ok (case '{case.case.name}': {len(case.particles)} particle "
           f"source(s), {len(case.walls)} wall(s), {len(case.structures)} structure(s), "
           f"{len(case.monitors)} monitor(s); dt = {dt:.3g} s)")
+    print(f"  {est}")
     return 0
 
 
@@ -192,6 +200,11 @@ def _run(args, argv=None) -> int:
         exc.agreed = True
         raise
     out = args.out if args.out is not None else pathlib.Path("out") / case.case.name
+    if args.resume:
+        from gsi.case.fingerprint import check_resume
+        check_resume(case, out, quick=args.quick, allow=args.allow_changes)
+    elif args.allow_changes:
+        raise GsiInputError("--allow-changes: only with --resume")
     try:
         run_case(case, out=out, quick=args.quick, pictures=False if args.no_pictures else None,
                  overwrite=args.overwrite, resume=args.resume,

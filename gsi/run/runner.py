@@ -56,6 +56,7 @@ import numpy as np
 from gsi.errors import GsiInputError, GsiRunError
 from gsi.case.build_dem import build_simulation
 from gsi.dem.engine import is_cached as engine_is_cached
+from gsi.case.fingerprint import fingerprint
 from gsi.run.checkpoints import Checkpointer
 from gsi.run.outdir import claim
 from gsi.run.outputs import Outputs
@@ -196,7 +197,7 @@ class Runner:
                     else self.checkpoint_every)
         self.checkpoints = Checkpointer(
             self.comm, self.root, self.out, dt=self.dt, case_name=case.case.name,
-            quick=self.quick, minutes=case.run.checkpoint_minutes,
+            quick=self.quick, minutes=case.run.checkpoint_minutes, fingerprint=fingerprint(case),
             every=max(1, int(round(interval / self.dt))) if interval > 0 else None)
         self.extrapolation = _case_extrapolation(case, self.dt, self.out, self.structures,
                                                  resume=self.resume, ranks=self.comm.size)

@@ -1,8 +1,11 @@
 """Regenerate ``cases/``: the bad-input corpus, each a demo case with one thing broken.
 
 Run ``python tests/reliability/make_corpus.py`` after changing a demo; review the diff.
-Each file's first line is ``# expect: KEY | via: check|run | what is broken``: the key the
-one-line error must name, and whether ``gsi check`` finds it or only ``gsi run`` (set-up).
+Each file's first line is ``# expect: KEY | via: check|run|warn|ok | what is broken``: the
+key the one-line error (or warning) must name, and the outcome: ``check`` (refused by ``gsi
+check``), ``run`` (only ``gsi run`` finds it, at set-up), ``warn`` (accepted with a warning
+naming the key) or ``ok`` (a valid input, accepted silently). The second corpus (a careful
+user's slips) is in ``corpus_careful.py``.
 """
 from __future__ import annotations
 
@@ -177,6 +180,12 @@ DATA = {
 }
 
 
+from corpus_careful import DATA as DATA_CAREFUL, DATA_BYTES, spec  # noqa: E402
+
+SPEC.update(spec(P, D, H, B, T, PLANE, FILE_SRC))
+DATA.update(DATA_CAREFUL)
+
+
 def main() -> None:
     CASES.mkdir(exist_ok=True)
     (CASES / "data").mkdir(exist_ok=True)
@@ -184,6 +193,8 @@ def main() -> None:
         old.unlink()
     for name, text in DATA.items():
         (CASES / "data" / name).write_text(text)
+    for name, raw in DATA_BYTES.items():
+        (CASES / "data" / name).write_bytes(raw)
     for name, (base, edits, key, via, what) in SPEC.items():
         text = base
         for old, new in edits:
@@ -198,7 +209,10 @@ def main() -> None:
     (CASES / "not_toml.toml").write_text(
         "# expect: not_toml.toml | via: check | a table header without its bracket\n"
         + P.replace("[run]", "[run", 1))
-    print(f"{len(SPEC) + 2} cases in {CASES}")
+    (CASES / "ok_case_with_bom.toml").write_bytes(
+        "\ufeff# expect: - | via: ok | a case file with a UTF-8 byte-order mark\n".encode()
+        + P.encode())
+    print(f"{len(SPEC) + 3} cases in {CASES}")
 
 
 if __name__ == "__main__":

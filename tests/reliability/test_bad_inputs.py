@@ -2,6 +2,9 @@
 file gives exit status 2 and ONE stderr line ``error: ...`` that names the key, never a
 traceback.
 
+Cases marked ``warn`` pass ``gsi check`` with one ``warning:`` line naming the key; cases
+marked ``ok`` are valid inputs next to the broken ones and pass silently.
+
 The "check" cases run through :func:`gsi.cli.main` in this process (the same code path as
 the ``gsi`` command, minus the interpreter start); a representative subset, and every case
 that only ``gsi run`` can find (set-up), run through the ``gsi`` command in a subprocess.
@@ -22,7 +25,7 @@ ROOT = HERE.parents[1]
 
 def _header(path: pathlib.Path) -> tuple[str, str]:
     """(expected key, 'check' or 'run') from the file's first line."""
-    first = path.read_bytes().split(b"\n", 1)[0].decode("ascii")
+    first = path.read_bytes().split(b"\n", 1)[0].decode("utf-8").lstrip("\ufeff")
     assert first.startswith("# expect: "), path.name
     parts = [p.strip() for p in first[2:].split(" | ")]
     return parts[0].removeprefix("expect: "), parts[1].removeprefix("via: ")
@@ -30,6 +33,8 @@ def _header(path: pathlib.Path) -> tuple[str, str]:
 
 CHECK = [c for c in CASES if _header(c)[1] == "check"]
 RUN = [c for c in CASES if _header(c)[1] == "run"]
+WARN = [c for c in CASES if _header(c)[1] == "warn"]
+OK = [c for c in CASES if _header(c)[1] == "ok"]
 #: through the real command as well (a new interpreter; the issue's "tracebacks" items)
 SUBPROCESS = ["non_utf8", "count_1e9", "count_float_1e9", "E_1Pa", "structure_geometry_string",
               "structure_geo_string", "dt_0p7_rayleigh", "stream_rate_1e12", "skin_10m",
@@ -97,3 +102,27 @@ def test_set_up_errors_of_gsi_run_are_one_line(path, tmp_path):
     assert _gsi("check", str(path)).returncode == 0
     res = _gsi("run", str(path), "--quick", "--no-pictures", "--out", str(tmp_path / "out"))
     _assert_one_error_line(res.returncode, res.stderr, key, path.name)
+
+
+def test_the_corpus_has_every_outcome():
+    assert len(CHECK) >= 150 and len(WARN) >= 4 and len(OK) >= 8 and RUN
+
+
+@pytest.mark.parametrize("path", WARN, ids=[c.stem for c in WARN])
+def test_gsi_check_accepts_with_a_warning_naming_the_key(path, capsys):
+    key, _ = _header(path)
+    rc = main(["check", str(path)])
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    assert "Traceback" not in err
+    warned = [ln for ln in err.splitlines() if ln.startswith("warning: ")]
+    assert len(warned) == 1 and key in warned[0], err
+    assert "estimate: " in out
+
+
+@pytest.mark.parametrize("path", OK, ids=[c.stem for c in OK])
+def test_valid_inputs_pass_silently(path, capsys):
+    rc = main(["check", str(path)])
+    out, err = capsys.readouterr()
+    assert rc == 0 and err == "", err
+    assert ": ok (case " in out and "estimate: " in out

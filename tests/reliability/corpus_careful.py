@@ -1,0 +1,121 @@
+"""The second corpus: inputs written the way a careful but hurried user gets things wrong
+(units, contradictions, absurd sizes, names that are paths, duplicates, files), and a
+few valid inputs next to them that must pass. ``make_corpus.py`` writes them with the
+first corpus. ``via``: ``check`` (refused by ``gsi check`` in one line naming the key),
+``warn`` (accepted with one ``warning:`` line naming the key), ``ok`` (accepted silently)."""
+from __future__ import annotations
+
+
+def spec(P, D, H, B, T, PLANE, FILE_SRC) -> dict:
+    """name: (base, [(old, new), ...], key, via, what is broken)."""
+    TMON = ('[[monitors]]\nname = "hot"\nkind = "temperature"\n'
+            'region = { kind = "box", lo = [LO], hi = [HI] }\n\n[output]')
+    MIX = ('[[monitors]]\nname = "mix"\nkind = "mixing"\ngroup = "grains"\n'
+           'region = { kind = "box", lo = [-0.1, 0.0, 0.02], hi = [0.1, 0.05, 0.22] }\n'
+           'cells = CELLS\n\n[output]')
+    plane_at = lambda z: PLANE.replace("point = [0.0, 0.0, 0.0]", f"point = [0.0, 0.0, {z}]")
+    T_HOT = ('heat_time_scale = 200.0', 'heat_time_scale = 1.0e9')
+    return {
+        # ---- units
+        "steel_E_in_GPa": (T, [("E = 210.0e9", "E = 210.0")], "materials.steel.E", "check", "a wall's E typed in GPa"),
+        "structure_E_in_MPa": (H, [('material = "rubber"      # gsi.fem', 'E = 2.0\nmaterial = "rubber"      # gsi.fem')], "structures[0].E", "check", "a structure's E override in MPa"),
+        "glass_E_in_kPa": (P, [("E = 5.0e6", "E = 5.0")], "materials.glass.E", "check", "E in kPa... 5 Pa"),
+        "E_above_diamond": (P, [("E = 5.0e6", "E = 5.0e15")], "materials.glass.E", "check", "E far above any solid"),
+        "rho_in_g_cm3": (P, [("rho = 2500.0", "rho = 2.5")], "materials.glass.rho", "check", "density in g/cm^3"),
+        "rho_in_g_cm3_drum_wall": (D, [("rho = 2500.0\ne = 0.2\nmu = 0.5", "rho = 2.5\ne = 0.2\nmu = 0.5")], "materials.drum_wall.rho", "check", "wall density in g/cm^3"),
+        "rho_absurd": (P, [("rho = 2500.0", "rho = 2.5e6")], "materials.glass.rho", "check", "density 2.5e6 kg/m^3"),
+        "structure_rho_in_g_cm3": (H, [('material = "rubber"      # gsi.fem', 'rho = 0.93\nmaterial = "rubber"      # gsi.fem')], "structures[0].rho", "check", "structure density in g/cm^3"),
+        "convection_T_ambient_celsius": (T, [("T_ambient = 293.15", "T_ambient = 20.0")], "structures[0].thermal.convection[0].T_ambient", "warn", "ambient 20 (deg C typed for K)"),
+        "particle_temperature_celsius": (T, [("temperature = 800.0", "temperature = 150.0")], "particles[0].temperature", "warn", "particles at 150 (deg C typed for K)"),
+        "T_ref_celsius": (T, [("T_ref = 293.15", "T_ref = 20.0")], "structures[0].thermal.T_ref", "warn", "stress-free T of 20 (deg C)"),
+        "temperature_above_5000": (T, [("temperature = 800.0", "temperature = 80000.0")], "particles[0].temperature", "check", "80,000 K (an extra zero twice)"),
+        "temperature_below_1K": (T, [("temperature = 800.0", "temperature = 0.5")], "particles[0].temperature", "check", "0.5 K"),
+        "cp_in_kJ": (P, [("cp = 840.0", "cp = 0.84")], "materials.glass.cp", "check", "c_p in kJ/(kg K)"),
+        "k_absurd": (P, [("k = 1.0", "k = 1.0e6")], "materials.glass.k", "check", "conductivity 1e6 W/(m K)"),
+        "structure_k_tiny": (T, [('material = "steel"      # E 210', 'k = 1.0e-6\nmaterial = "steel"      # E 210')], "structures[0].k", "check", "structure conductivity 1e-6"),
+        "geo_overrides_in_mm": (B, [("length = 0.8, width = 0.3, thickness = 0.02", "length = 800.0, width = 300.0, thickness = 20.0")], "structures[0].geometry", "check", ".geo overrides in mm: 800 m across"),
+        "membrane_radius_in_mm": (H, [("radius = 0.3, thickness", "radius = 300.0, thickness")], "structures[0].geometry.radius", "check", "a builder's radius in mm"),
+        "pipe_length_in_mm": (P, [('heat = "none"', 'heat = "pipe"\npipe_length = 60.0')], "dem.pipe_length", "check", "the pipe model's slab thickness in mm"),
+        # ---- names that are paths
+        "monitor_name_escapes": (P, [('name = "bed"', 'name = "../../escaped"')], "monitors[1].name", "check", "monitor writes ../../escaped.csv"),
+        "monitor_name_empty": (P, [('name = "bed"', 'name = ""')], "monitors[1].name", "check", "empty monitor name"),
+        "monitor_name_absolute": (P, [('name = "bed"', 'name = "/tmp/bed"')], "monitors[1].name", "check", "absolute monitor name"),
+        "monitor_name_backslash": (P, [('name = "bed"', 'name = "a\\\\b"')], "monitors[1].name", "check", "a Windows path as a name"),
+        "monitor_name_hidden": (P, [('name = "bed"', 'name = ".bed"')], "monitors[1].name", "check", "a hidden-file name"),
+        "monitor_name_long": (P, [('name = "bed"', 'name = "' + "b" * 150 + '"')], "monitors[1].name", "check", "a 150-character name"),
+        "wall_name_slash": (P, [('name = "box"\nkind', 'name = "a/b"\nkind'), ('target = "box"', 'target = "a/b"')], "walls[0].name", "check", "wall a/b (file-system error at the first output)"),
+        "wall_name_dotdot": (P, [('name = "box"\nkind', 'name = "../box"\nkind'), ('target = "box"', 'target = "../box"')], "walls[0].name", "check", "wall ../box"),
+        "structure_name_dotdot": (H, [('name = "membrane"\nmesh', 'name = "../membrane"\nmesh')], "structures[0].name", "check", "structure ../membrane"),
+        "particles_name_slash": (P, [('name = "beads"', 'name = "be/ads"')], "particles[0].name", "check", "particle group with a slash"),
+        "case_name_absolute": (P, [('name = "pour"', 'name = "/tmp/pour"')], "case.name", "check", "absolute case name"),
+        "wall_and_structure_same_name": (H, [('name = "gate"', 'name = "membrane"')], "structures[0].name", "check", "a wall and a structure both 'membrane'"),
+        "ok_names_with_dots_dashes": (P, [('name = "bed"', 'name = "bed-1.v2_a"')], "-", "ok", "valid name with '-', '.', '_'"),
+        # ---- absurd sizes
+        "quick_dt_1e-9": (P, [("seed = 7", "seed = 7\ndt = 1.0e-9")], "quick.run.dt", "check", "run.dt = 1e-9: 2.5e8 steps in --quick"),
+        "dt_1e-12": (P, [("seed = 7", "seed = 7\ndt = 1.0e-12")], "run.dt", "check", "run.dt = 1e-12: 6e11 steps"),
+        "n_sub_1e9": (H, [('contact = { tags = ["contact"]', 'contact = { n_sub = 1000000000, tags = ["contact"]')], "structures[0].contact.n_sub", "check", "FE step of 3e5 s"),
+        "n_sub_above_run": (T, [("n_sub = 50", "n_sub = 200000")], "structures[0].contact.n_sub", "check", "FE step longer than the run"),
+        "geo_h_tiny": (B, [("h = 0.06, layers", "h = 0.0001, layers")], "structures[0]", "check", ".geo meshed with h = 0.1 mm"),
+        "geo_h_5mm_warns": (B, [("h = 0.06, layers", "h = 0.005, layers")], "structures[0]", "warn", ".geo meshed with h = 5 mm: about 3e5 dofs"),
+        "cone_facets_1e6": (H, [("facets = 48", "facets = 1000000")], "walls[0].facets", "check", "cone of 1e6 facets (MemoryError before)"),
+        "cone_facets_float": (H, [("facets = 48", "facets = 1e6")], "walls[0].facets", "check", "facets as a float"),
+        "checkpoint_every_step": (P, [("seed = 7", "seed = 7\ncheckpoint_interval = 1e-12")], "run.checkpoint_interval", "check", "a checkpoint every step"),
+        "checkpoints_too_many": (P, [("seed = 7", "seed = 7\ncheckpoint_interval = 1e-4")], "run.checkpoint_interval", "check", "6,000 checkpoints"),
+        "mixing_cells_1e12": (D, [("[output]", MIX.replace("CELLS", "[10000, 10000, 10000]"))], "monitors[2].cells", "check", "1e12 mixing cells"),
+        "mixing_cells_float": (D, [("[output]", MIX.replace("CELLS", "[2.5, 2, 2]"))], "monitors[2].cells", "check", "a float where a count is meant"),
+        "long_run_warns": (P, [("duration = 0.6", "duration = 6000.0"), ("interval = 0.02", "interval = 1.0"), ("run = { duration = 0.25 }", "run = { duration = 0.25 }\noutput = { interval = 0.05 }")], "run.duration", "warn", "1.4e8 steps: about 11 h of 2,000 particles"),
+        "ok_checkpoint_interval": (P, [("seed = 7", "seed = 7\ncheckpoint_interval = 0.1")], "-", "ok", "six checkpoints"),
+        "ok_mixing_cells": (D, [("[output]", MIX.replace("CELLS", "[4, 2, 4]"))], "-", "ok", "a mixing monitor of 32 cells"),
+        # ---- geometric contradictions
+        "fill_through_floor_plane": (P + plane_at(0.1), [], "particles[0].region", "check", "fill region reaching through a floor plane"),
+        "fill_wholly_behind_plane": (P + plane_at(0.17), [], "particles[0].region", "check", "fill region under the floor"),
+        "floor_below_domain": (P + plane_at(-0.5), [], "walls[1].point", "check", "floor outside the domain box"),
+        "side_plane_outside_domain": (P + PLANE.replace("normal = [0.0, 0.0, 1.0]", "normal = [1.0, 0.0, 0.0]").replace("point = [0.0, 0.0, 0.0]", "point = [-1.0, 0.0, 0.0]"), [], "walls[1].point", "check", "a side wall 1 m outside the domain"),
+        "lattice_crossing_cone": (H, [('fill = "random"\ncount = 2000', 'fill = "lattice"\ncount = 2000'), ("centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4", "centre = [0.0, 0.0, 0.31], radius = 0.19, length = 0.5")], "particles[0].region", "check", "lattice fill through the cone and its gate"),
+        "lattice_through_drum_mesh": (D, [("radius = 0.099, length = 0.05", "radius = 0.115, length = 0.05"), ("count = 800", "count = 1400")], "particles[0].region", "check", "lattice sites across the drum's mesh"),
+        "temperature_monitor_outside": (T, [("[output]", TMON.replace("LO", "1.0, 1.0, 1.0").replace("HI", "2.0, 2.0, 2.0"))], "monitors[2].region", "check", "temperature monitor region outside the domain"),
+        "structure_outside_domain": (B, [('tags = { contact = "belt_top"', 'translate = [0.0, 0.0, 5.0]\ntags = { contact = "belt_top"')], "structures[0].translate", "check", "a .geo structure 5 m above the domain"),
+        "ok_floor_on_domain_face": (P + plane_at(-0.01), [], "-", "ok", "a floor plane on the domain's face"),
+        "ok_monitor_region_inside": (T, [("[output]", TMON.replace("LO", "-0.05, -0.05, 0.0").replace("HI", "0.05, 0.05, 0.05"))], "-", "ok", "temperature monitor of the lower bed"),
+        # ---- duplicates and unused keys
+        "pairs_twice_reversed": (D, [("mu = 0.5\n\n[[particles]]", 'mu = 0.5\n\n[[pairs]]\nmaterials = ["drum_wall", "grain"]\nmu = 0.9\n\n[[particles]]')], "pairs[1].materials", "check", "the same pair twice, reversed, another mu"),
+        "pairs_twice_same": (D, [("mu = 0.5\n\n[[particles]]", 'mu = 0.5\n\n[[pairs]]\nmaterials = ["grain", "drum_wall"]\ne = 0.4\n\n[[particles]]')], "pairs[1].materials", "check", "the same pair twice"),
+        "ok_two_distinct_pairs": (D, [("mu = 0.5\n\n[[particles]]", 'mu = 0.5\n\n[[pairs]]\nmaterials = ["grain", "grain"]\nmu = 0.35\n\n[[particles]]')], "-", "ok", "two different pairs"),
+        "monitor_region_on_wall_kind": (P, [('target = "box"', 'target = "box"\nregion = { kind = "box", lo = [0.0, 0.0, 0.0], hi = [0.06, 0.06, 0.05] }')], "monitors[0].region", "check", "a region on a wall monitor (ignored)"),
+        "monitor_group_on_wall_kind": (P, [('target = "box"', 'target = "box"\ngroup = "beads"')], "monitors[0].group", "check", "a group on a wall monitor"),
+        "monitor_target_on_particles": (P, [('kind = "particles"', 'kind = "particles"\ntarget = "box"')], "monitors[1].target", "check", "a target on a particles monitor"),
+        "monitor_cells_on_particles": (P, [('kind = "particles"', 'kind = "particles"\ncells = [2, 2, 2]')], "monitors[1].cells", "check", "cells on a particles monitor"),
+        "monitor_normal_on_wall": (P, [('target = "box"', 'target = "box"\nnormal = [0.0, 0.0, 1.0]')], "monitors[0].normal", "check", "a discharge normal on a wall monitor"),
+        # ---- files
+        "csv_T_column_rows_lack_it": (FILE_SRC.replace("FILE", "data/T_missing.csv"), [], "particles[0].file", "check", "header names T, rows lack it"),
+        "csv_T_column_empty_values": (FILE_SRC.replace("FILE", "data/T_empty.csv"), [], "particles[0].file", "check", "T values left empty"),
+        "csv_T_absurd": (FILE_SRC.replace("FILE", "data/T_absurd.csv"), [], "particles[0].file", "check", "T column of 60,000 K"),
+        "csv_row_too_long": (FILE_SRC.replace("FILE", "data/row_long.csv"), [], "particles[0].file", "check", "a row with a value the header lacks"),
+        "ok_csv_with_bom": (FILE_SRC.replace("FILE", "data/bom_heap.csv"), [], "-", "ok", "a particle CSV with a UTF-8 byte-order mark (Excel)"),
+        # ---- heat stability known before the run
+        "heat_time_scale_1e9": (T, [T_HOT], "run.heat_time_scale", "check", "heat update unstable at the first contact (stopped at step 690 before)"),
+        "heat_radius_time_scale_1e9": (T, [T_HOT, ('heat = "area"', 'heat = "radius"')], "run.heat_time_scale", "check", "the same with the radius model"),
+        "heat_constant_hc_huge": (P, [('heat = "none"', 'heat = "constant"\nh_c = 1.0e5')], "dem.h_c", "check", "constant conductance 100 kW/K between 2 mm beads"),
+        # ---- friction beyond the range where the explicit step is stable (drum: mu_pp = 100
+        # blew up at step 413 at dt = 0.23 t_R; mu = 30 at step 449; 1, 3, 10 and mu = 100 at
+        # dt = 7e-5 s ran)
+        "drum_mu_pp_100": (D, [("mu = 0.3\nmu_r", "mu = 100.0\nmu_r")], "materials.grain.mu", "check", "mu_pp = 100 at dt = 0.23 t_R (blew up at step 413)"),
+        "drum_mu_pp_30": (D, [("mu = 0.3\nmu_r", "mu = 30.0\nmu_r")], "materials.grain.mu", "check", "mu_pp = 30 at dt = 0.23 t_R (blew up at step 449)"),
+        "drum_pair_mu_100": (D, [("mu = 0.5\n\n[[particles]]", 'mu = 0.5\n\n[[pairs]]\nmaterials = ["grain", "grain"]\nmu = 100.0\n\n[[particles]]')], "pairs[1].mu", "check", "a grain-grain pair of mu = 100"),
+        "ok_drum_mu_pp_10": (D, [("mu = 0.3\nmu_r", "mu = 10.0\nmu_r")], "-", "ok", "mu_pp = 10 (ran)"),
+        "ok_drum_mu_pp_100_small_dt": (D, [("mu = 0.3\nmu_r", "mu = 100.0\nmu_r"), ("dt = 1.0e-4 ", "dt = 7.0e-5 ")], "-", "ok", "mu_pp = 100 at dt = 0.16 t_R (ran)"),
+        "ok_heat_time_scale_1e3": (T, [("heat_time_scale = 200.0", "heat_time_scale = 1000.0")], "-", "ok", "a stable heat-time scale"),
+    }
+
+
+DATA = {
+    "T_missing.csv": "x,y,z,radius,T\n0.02,0.02,0.05,0.002\n0.03,0.03,0.05,0.002\n0.04,0.04,0.05,0.002\n"
+                     "0.02,0.04,0.05,0.002\n0.04,0.02,0.05,0.002\n",
+    "T_empty.csv": "x,y,z,radius,T\n0.02,0.02,0.05,0.002,\n0.03,0.03,0.05,0.002,\n",
+    "T_absurd.csv": "x,y,z,radius,T\n0.02,0.02,0.05,0.002,60000\n0.03,0.03,0.05,0.002,300\n",
+    "row_long.csv": "x,y,z,radius\n0.02,0.02,0.05,0.002,300\n0.03,0.03,0.05,0.002\n",
+}
+#: written as bytes (a UTF-8 byte-order mark first)
+DATA_BYTES = {
+    "bom_heap.csv": b"\xef\xbb\xbfx,y,z,radius\n0.02,0.02,0.05,0.002\n0.03,0.03,0.05,0.002\n",
+}
