@@ -46,8 +46,8 @@ def _best_of(sim, call, *, calls, batches):
 
 
 def force_pass_seconds(sim, mode, *, mesh=True, calls=10, batches=20):
-    """Seconds per force pass (``contact_forces`` in ``mode``: 0 forces only, 2 fused with
-    the integration), a compiled loop of ``calls`` passes; without ``mesh`` the triangle
+    """Seconds per force pass (``mode``: 0 forces only, 2 fused with the integration,
+    see :func:`_pass_loop`), a compiled loop of ``calls`` passes; without ``mesh`` the triangle
     candidates and contacts are hidden."""
     import numpy as np
 
@@ -86,18 +86,28 @@ _LOOPS = {}
 
 
 def _pass_loop(engine):
-    """A compiled loop of ``k`` calls of the engine's force pass (one per contact model)."""
+    """A compiled loop of ``k`` force passes of the engine (one per contact model):
+    ``mode`` 0 the forces only (``advance(FORCES_ONLY)``), 2 ``k`` steps of ``advance``
+    (each pass fused with the integration; the engine has no separate force pass)."""
     import numba
-    from gsi.dem.engine import contact_forces as f
+    import numpy as np
+    from gsi.dem.engine import advance, FORCES_ONLY
+    from gsi.dem.contact_log import empty_log_state
     key = tuple(engine.model)
     if key not in _LOOPS:
         model = engine.model
+        lg = empty_log_state()
 
         @numba.njit
         def loop(k, mode, dt, P, pairs, pl, M, wc, table, acc, g0, g1, g2, lo, hi, so):
-            for _ in range(k):
-                f(mode, dt, P, pairs, pl, M, wc, table, model, acc, g0, g1, g2, lo, hi, 1e4,
-                  so)
+            g = np.array([g0, g1, g2])
+            if mode == 0:
+                for _ in range(k):
+                    advance(FORCES_ONLY, False, 0.0, g, 0.0, 0.0, lo, hi, P, pairs, pl, M, wc,
+                            table, lg, model)
+            else:
+                advance(k, False, dt, g, 1e30, 1e30, lo, hi, P, pairs, pl, M, wc, table, lg,
+                        model)
         _LOOPS[key] = loop
     return _LOOPS[key]
 

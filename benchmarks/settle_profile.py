@@ -10,7 +10,8 @@ threads' spinning at barriers), ``SORT=1`` sorts the particle rows
 d6047ed (for before/after tables; run with that commit's ``gsi`` on ``PYTHONPATH``).
 
 Rows: the force pass of pairs alone (planes removed), plus planes, plus the fused
-integration (``contact_forces`` mode 0 without planes, mode 0, mode 2; each the best
+integration (the force pass alone without planes, with planes, fused with the
+integration; see :func:`repeater`; each the best
 of 7 batches of force passes in a compiled loop, the state restored before each batch),
 the neighbour rebuild (best of two, times the rebuilds per step of the run) and the
 rest of the measured step (serial wall sums, wall motion, Python).
@@ -28,17 +29,36 @@ from gsi.dem import Simulation, Material
 def repeater(engine):
     """A compiled loop of n force passes of ``engine`` (no Python between them): the
     engine object of :mod:`gsi.dem.engine` (its model bound), or a generated engine
-    module of gsi before 2026-12-03 (for before/after tables from an old checkout)."""
+    module of gsi before 2026-12-03 (for before/after tables from an old checkout).
+
+    The engine of 2026-12-04 has no separate force pass: ``mode`` 0 is
+    ``advance(FORCES_ONLY)`` (the forces at the current state, after a clear), ``mode`` 2
+    is ``advance(n)`` (n steps, each a force pass fused with the integration, plus the
+    step's serial wall sums)."""
+    import gsi.dem.engine as eng
+    if hasattr(engine, "model") and not hasattr(eng, "contact_forces"):
+        from gsi.dem.contact_log import empty_log_state
+        adv, forces_only, model, lg = eng.advance, eng.FORCES_ONLY, engine.model, empty_log_state()
+
+        @numba.njit
+        def rep_new(n, mode, dt, P, pairs, pl, M, wc, table, acc, g, lo, hi, so):
+            if mode == 0:
+                for _ in range(n):
+                    adv(forces_only, False, 0.0, g, 0.0, 0.0, lo, hi, P, pairs, pl, M, wc,
+                        table, lg, model)
+            else:
+                adv(n, False, dt, g, 1e30, 1e30, lo, hi, P, pairs, pl, M, wc, table, lg, model)
+        return rep_new
     if hasattr(engine, "model"):
-        from gsi.dem.engine import contact_forces as cf
+        cf_model = eng.contact_forces
         model = engine.model
 
         @numba.njit
-        def rep(n, mode, dt, P, pairs, pl, M, wc, table, acc, g, lo, hi, so):
+        def rep_model(n, mode, dt, P, pairs, pl, M, wc, table, acc, g, lo, hi, so):
             for _ in range(n):
-                cf(mode, dt, P, pairs, pl, M, wc, table, model, acc, g[0], g[1], g[2], lo, hi,
-                   1e4, so)
-        return rep
+                cf_model(mode, dt, P, pairs, pl, M, wc, table, model, acc, g[0], g[1], g[2],
+                         lo, hi, 1e4, so)
+        return rep_model
     cf = engine.contact_forces
 
     @numba.njit
