@@ -81,6 +81,11 @@ def _probe(path, params) -> tuple[list, list, float] | None:
     """(bounding-box lo, hi, mean curve mesh size) of a gmsh file, from a 1D mesh whose
     size is floored at 1/5000 of the box diagonal (so the probe itself stays cheap)."""
     import gmsh
+    from gsi.meshes.file import check_readable
+    try:
+        check_readable(path, "structure")   # a binary file would harm gmsh's parser
+    except GsiInputError:
+        return None                         # the build reports it
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)

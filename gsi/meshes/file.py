@@ -32,9 +32,30 @@ SUFFIXES = (".geo", ".msh")
 _SYSTEM = ("Gmsh/", "ONELAB/")
 
 
+def check_readable(path: pathlib.Path, key: str) -> None:
+    """Refuse a file gmsh would misparse *and be harmed by*: gmsh 4.8 reads a file that is
+    not a mesh as a .geo script, and a binary one (random bytes) leaves its script lexer
+    broken for the rest of the process -- every later .geo then fails with "line 0:
+    syntax error".  A .msh must start with ``$MeshFormat``; a .geo must be text."""
+    head = path.read_bytes()[:1 << 16]
+    if path.suffix.lower() == ".msh":
+        if not head.lstrip().startswith(b"$MeshFormat"):
+            raise GsiInputError(f"{key}.file = '{path}': not a gmsh mesh (a .msh file starts "
+                                "with $MeshFormat); give a gmsh .msh or .geo file")
+        return
+    try:
+        text = head.decode("utf-8")
+    except UnicodeDecodeError:
+        text = None
+    if text is None or any(ord(c) < 32 and c not in "\t\n\r\f" for c in text):
+        raise GsiInputError(f"{key}.file = '{path}': not a gmsh script (binary content); "
+                            "give a gmsh .geo text file or a .msh mesh")
+
+
 def _open(gmsh, path: pathlib.Path, params: dict | None, key: str) -> dict:
     """Open ``path`` in a live gmsh session with the DefineConstant overrides ``params``.
     Returns the script's constants {onelab name: value} (empty for .msh)."""
+    check_readable(path, key)
     gmsh.onelab.clear()
     gmsh.open(str(path))
     if path.suffix != ".geo":

@@ -169,6 +169,8 @@ def test_explicit_refused_above_the_limit():
     assert Heat(sm, MAT, dt=1.0, theta=0.25).stable_dt() == pytest.approx(2 * limit, rel=1e-12)
 
 
+# rho c = 1e3 J/(m^3 K) as MAT (the heat problem sees only the product), split so that each
+# lies in its key's sane range (c = 1 J/(kg K) is refused as a likely kJ slip)
 SLAB_TOML = """
 [[structures]]
 name = "bar"
@@ -176,8 +178,8 @@ mesh = "box"
 geometry = {{ length_x = 1.0, length_y = 0.1, length_z = 0.1, h = 0.05 }}
 material = "steel"
 k = 1.0
-rho = 1000.0
-c = 1.0
+rho = 100.0
+c = 10.0
 contact = {{ tags = ["x0"], mode = "thermal", n_sub = {n_sub} }}
 thermal = {{ T_initial = 273.15, theta = 0.0, fixed = [ {{ tag = "x1", T = 274.15 }} ] }}
 """
