@@ -8,7 +8,7 @@ One place for the overlap, the unit normal, the lever arms and the contact radiu
   spheres);
 - a sphere on a plane or a triangle at overlap delta: a^2 = 2 R delta - delta^2.
 
-A heat model takes a^2 (:mod:`gsi.dem.heat`), so conduction, the force pass and
+A heat model takes a^2 (:mod:`gsi.dem.contact.conductance`), so conduction, the force pass and
 :func:`heat_conductance_sum <gsi.dem.engine.heat_conductance_sum>` use the same a.
 """
 from gsi.jit import njit, sqrt

@@ -25,7 +25,7 @@ Delta t_c^max, Algorithm 2: a contact of 25 s with Delta t_c^max = 10 s is the r
   changes);
 - its start (steps after t0) and duration m (steps);
 - the mean over its samples of the contact size s that the conductance model
-  multiplies, H = c s (:mod:`gsi.dem.heat`): s = sqrt(pi a^2) for ``area`` (the
+  multiplies, H = c s (:mod:`gsi.dem.contact.conductance`): s = sqrt(pi a^2) for ``area`` (the
   seed's sqrt(a_ij)), s = a for ``radius``, s = 1 for ``constant``, with c = 4 k_i k_j/
   (k_i + k_j) (``h_c`` for ``constant``); a run without a heat model logs the ``area``
   size.  The mean size times m is the sampled integral of H/c over the row.

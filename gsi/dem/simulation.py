@@ -76,7 +76,7 @@ class Simulation(ParticleViews, WallViews):
     rolling : bool, default False
         Rolling resistance (constant directional torque, coefficient ``Material.mu_r``).
     heat : {None, "area", "radius", "constant", "pipe"}
-        Contact conduction model (:mod:`gsi.dem.heat`); None: no heat.
+        Contact conduction model (:mod:`gsi.dem.contact.conductance`); None: no heat.
     h_c : float, optional
         Conductance of the "constant" model (W/K).
     pipe_length, pipe_resistance : float, optional

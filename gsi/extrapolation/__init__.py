@@ -49,10 +49,10 @@ no method predicts which particle ends in which cell).
 Modules: :mod:`~gsi.extrapolation.pairing` (eq. 6), :mod:`~gsi.extrapolation.replay`
 (Algorithm 3), :mod:`~gsi.extrapolation.fe_replay` (an FE heat structure as the wall),
 :mod:`~gsi.extrapolation.metrics` (eqs. 9-10), :mod:`~gsi.extrapolation.reference` (the
-comparison with the full DEM), :mod:`~gsi.extrapolation.case` (a case's ``[extrapolation]``),
+comparison with the full DEM), :mod:`~gsi.extrapolation.driver` (a case's ``[extrapolation]``),
 :mod:`~gsi.extrapolation.figures` (its pictures).
 """
-from gsi.extrapolation.case import CaseExtrapolation
+from gsi.extrapolation.driver import CaseExtrapolation
 from gsi.extrapolation.fe_replay import FEWallReplay, rotate
 from gsi.extrapolation.metrics import (cell_error, cell_means, cell_sampling_level,
                                        energy_transfer_error, finite_max, period_errors,

@@ -1,4 +1,4 @@
-"""The pictures of a case's extrapolation (:class:`gsi.extrapolation.case.CaseExtrapolation`,
+"""The pictures of a case's extrapolation (:class:`gsi.extrapolation.driver.CaseExtrapolation`,
 ``ex``, after its ``finish``): the temperature fields, the group means, the Voronoi-cell
 error map, and for an FE wall the mean temperatures against hours."""
 from __future__ import annotations

@@ -1,6 +1,6 @@
 r"""Biot number of the particle contacts (seed 001 (thesis), section II.4, eq. II.4).
 
-The contact-conduction models (:mod:`gsi.dem.heat`) give each particle one temperature.
+The contact-conduction models (:mod:`gsi.dem.contact.conductance`) give each particle one temperature.
 That holds when the resistance of the contact, 1/H, is much larger than the resistance
 inside the particle, ~ 1/(k pi R); their ratio is the Biot number of the thesis
 
@@ -50,7 +50,7 @@ def biot_number(H, k, R):
 
 def conductance(model, a2, kh, h_c=0.0):
     """Contact conductance H (W/K) of ``model`` at squared contact radius ``a2`` (m^2),
-    as :mod:`gsi.dem.heat`: area kh sqrt(pi a^2), radius kh a, constant h_c;
+    as :mod:`gsi.dem.contact.conductance`: area kh sqrt(pi a^2), radius kh a, constant h_c;
     ``kh`` = 4 k_i k_j/(k_i + k_j) (W/(m K))."""
     a2 = np.maximum(np.asarray(a2, float), 0.0)
     if model == "area":

@@ -9,7 +9,7 @@ DEM advances in chunks between *events*, each at a whole step:
   and heat, steps, and hands its moved, heated wall back (``finish``), then opens the
   next interval (``begin``);
 * a wall motion's schedule event (its time rounded to the nearest step);
-* the steps of an ``[extrapolation]`` (:class:`gsi.extrapolation.case.CaseExtrapolation`):
+* the steps of an ``[extrapolation]`` (:class:`gsi.extrapolation.driver.CaseExtrapolation`):
   temperatures set on two halves, the contact log's start t0 and end t1 (then the
   pairing and the replay), the reference DEM's t_n;
 * a monitor sample, every ``interval`` (default the output interval);

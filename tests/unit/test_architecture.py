@@ -226,6 +226,21 @@ def test_no_class_over_the_limit():
     assert bad == {}
 
 
+#: module names found in more than one package, each naming one concept at two layers (the
+#: case table and the object it builds, the mesh and the study of a drum, the DEM's and the
+#: FE's writers); any other repeated name is two different things under one name
+SHARED_NAMES = {"cli.py", "output.py", "materials.py", "walls.py", "drum.py"}
+
+
+def test_no_two_modules_share_a_name_for_different_things():
+    seen = {}
+    for f in (ROOT / "gsi").rglob("*.py"):
+        if f.name != "__init__.py":
+            seen.setdefault(f.name, []).append(f.relative_to(ROOT).as_posix())
+    repeated = {n: sorted(p) for n, p in seen.items() if len(p) > 1 and n not in SHARED_NAMES}
+    assert repeated == {}
+
+
 def test_the_figures_are_computed():
     f = figures()
     assert len(f["trip"]) == len(ROUND_TRIP) and f["round_trip_files"] >= 4

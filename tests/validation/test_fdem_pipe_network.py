@@ -1,6 +1,6 @@
 """Seed 002 (the FDEM contact-heat paper), section 5: Feng's pipe-network model.
 
-1. The ``pipe`` conductance of the DEM (:func:`gsi.dem.heat.pipe`), H = w/(R_A + R_B +
+1. The ``pipe`` conductance of the DEM (:func:`gsi.dem.contact.conductance.pipe`), H = w/(R_A + R_B +
    R_c*), R_A = (1/(pi k_A)) (-ln alpha_A + 3/2 + alpha_A^2/36), sin alpha_A = a/r_A,
    in a two-body run: two spheres held at a fixed overlap exchange heat with the exact
    explicit recursion (1 - 2 H dt/(m c_p))^n of the lumped pair (H from the formula,

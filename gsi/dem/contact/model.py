@@ -11,7 +11,7 @@ the sub-models in order over the lanes:
 2. **tangential**: the total force with friction -- ``history`` (spring with Coulomb cap);
 3. **rolling**: a torque -- ``none``, ``cdt`` (constant directional torque);
 4. **heat**: the conducted heat rate -- ``none``, ``area``, ``radius``, ``constant``,
-   ``pipe`` (:mod:`gsi.dem.heat`).
+   ``pipe`` (:mod:`gsi.dem.contact.conductance`).
 
 Each registry below maps a name to one compiled lane loop
 ``f(l0, l1, B, tab, row, dt)``; a new sub-model is one function in its own file and one
@@ -27,7 +27,7 @@ from numba import literal_unroll
 
 from gsi.jit import njit
 from gsi.errors import GsiInputError
-from gsi.dem import heat
+from gsi.dem.contact import conductance as heat
 from gsi.dem.contact import hertz, linear, tangential, rolling
 
 #: normal sub-models (elastic + damping): FN, KT, GT

@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from gsi.dem import heat
+from gsi.dem.contact import conductance as heat
 from gsi.dem.materials import Material, pair_table
 
 A = Material(E=1e9, nu=0.3, rho=2000, k=2.0)
