@@ -10,7 +10,8 @@ between blocks (gsi.run.stepping); the split must not change the results.
 * with the run 100 s long (five million steps: hours of wall time, one chunk), SIGINT
   and SIGTERM stop ``gsi run`` within 5 s with the one-line message and a checkpoint of
   the step it stopped at (serially and under ``mpirun -n 2``);
-* a run stopped in the middle of its only chunk resumes to a final state and files
+* a run stopped in the middle of its only chunk (0.4 s long, so that the signal lands
+  inside it on a fast host too) resumes to a final state and files
   bit-identical to the uninterrupted run.
 """
 import importlib.util
@@ -31,6 +32,8 @@ _spec.loader.exec_module(_util)
 
 CASE = _util.HERE / "data" / "long_chunk.toml"
 LIMIT = 5.0          # s from the signal to the end of the process
+RESUMED = 0.4        # s of the run stopped and resumed: 4 s of wall time on a fast host,
+                     # so the signal (0.5 s in) lands mid-chunk on a host 8 x faster too
 
 
 def _long_case(directory, duration):
@@ -47,7 +50,7 @@ def reference(tmp_path_factory):
     """The uninterrupted run of data/long_chunk.toml (it also compiles the engine, so
     that the stop tests below do not wait for the compiler)."""
     base = tmp_path_factory.mktemp("long_chunk")
-    _util.driver(base / "out", "--dump", str(base / "final"), case=CASE)
+    _util.driver(base / "out", "--dump", str(base / "final"), case=_long_case(base, RESUMED))
     return base
 
 
@@ -131,9 +134,10 @@ def test_under_mpirun_every_rank_stops_within_seconds(reference, tmp_path):
 
 def test_a_stop_in_the_middle_of_a_chunk_resumes_bitwise(reference, tmp_path):
     out = tmp_path / "out"
-    rc, stderr, seconds = _stop(out, CASE, signal.SIGTERM, delay=1.5)
-    _check_stopped(out, rc, stderr, seconds, signal.SIGTERM, 0.1)
-    proc = _util.driver(out, "--resume", "--dump", str(tmp_path / "final"), case=CASE)
+    case = reference / CASE.name               # the same file: the summary names it
+    rc, stderr, seconds = _stop(out, case, signal.SIGTERM, delay=0.5)
+    _check_stopped(out, rc, stderr, seconds, signal.SIGTERM, RESUMED)
+    proc = _util.driver(out, "--resume", "--dump", str(tmp_path / "final"), case=case)
     assert "resumed at t = " in proc.stdout
     _util.assert_same_state(_util.dumps(reference / "final"), _util.dumps(tmp_path / "final"))
     _util.assert_same_files(reference / "out", out)
