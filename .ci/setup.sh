@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 DOCS_DEBS="python3-sphinx python3-myst-parser furo libjs-mathjax chromium"
 
 DEBS="python3-dolfinx python3-petsc4py python3-mpi4py python3-gmsh python3-meshio \
-python3-numba python3-scipy python3-pytest python3-matplotlib python3-venv python3-pip \
+python3-numba python3-scipy python3-pytest liggghts python3-matplotlib python3-venv python3-pip \
 openmpi-bin libgl1 libxrender1 libosmesa6 ${DOCS_DEBS} ${EXTRA_DEBS:-}"
 
 missing=""
