@@ -87,13 +87,22 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
         slab_list = np.arange(n, dtype=slab_list.dtype)
     counts = np.empty(n, np.int64)
     nb_start = np.zeros(n + 1, np.int64)
-    nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
-                   nb_start, np.empty(0, np.int32), False)
-    np.cumsum(counts, out=nb_start[1:])
-    npair = int(nb_start[-1])
-    nb_j = np.empty(npair, np.int32)
-    nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
-                   nb_start, nb_j, True)
+    if threads == 1:
+        # one pass into a list sized from the last build's (a second pass if it is short)
+        nb_j = np.empty(_guess(old, "j", n), np.int32)
+        npair = nbr.find_pairs_serial(n, x, r, skin, cell_of, slab_of, cell_start,
+                                      cell_list, dims, nb_start, nb_j)
+        if npair <= len(nb_j):
+            nb_j = nb_j[:npair].copy()
+    else:
+        nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
+                       nb_start, np.empty(0, np.int32), False)
+        np.cumsum(counts, out=nb_start[1:])
+        npair = int(nb_start[-1])
+    if threads != 1 or npair > len(nb_j):
+        nb_j = np.empty(npair, np.int32)
+        nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
+                       nb_start, nb_j, True)
     hist = np.zeros((npair, 3))
     pact = np.zeros(npair, np.uint8)
     # new row -> old row through the ids at the last build
@@ -106,7 +115,8 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     else:
         old_of_new = np.full(n, -1, np.int64)
     mc_start, mc_tri, mc_hist = _triangle_candidates(
-        walls.mesh_state, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new, built)
+        walls.mesh_state, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new, built,
+        serial=threads == 1)
     pairs = Pairs(slab_start, slab_list, nb_start, nb_j, hist, pact, mc_start, mc_tri,
                   mc_hist)
     pl = walls.plane_state
@@ -116,21 +126,38 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     return pairs, ids.copy()
 
 
+def _guess(old, field, n):
+    """Length to allocate for a one-pass list: the last build's ``old.<field>`` and a
+    quarter more, or 8 per particle at the first build."""
+    last = len(getattr(old, field)) if old is not None else 0
+    last = last if last else 8 * n
+    return int(1.25 * last) + 64
+
+
 def _triangle_candidates(M, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new,
-                         built):
-    """Triangle candidates of each particle, their springs carried over from ``old``."""
+                         built, serial=False):
+    """Triangle candidates of each particle, their springs carried over from ``old``
+    (``serial``: one pass on one thread, see :func:`gsi.dem.neighbour.tri_candidates_serial`)."""
     n = len(x)
     mc_start = np.zeros(n + 1, np.int64)
     if not len(M.tri):
         return mc_start, np.zeros(0, np.int32), np.zeros((0, 3))
     tstart, tlist = nbr.bin_triangles(M.x, M.tri, lo, inv_cs, dims, rmax + skin)
-    dummy = np.zeros(0, np.int32)
-    nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start, dummy,
-                       True)
-    np.cumsum(mc_start[1:], out=mc_start[1:])
-    mc_tri = np.empty(int(mc_start[-1]), np.int32)
-    nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start, mc_tri,
-                       False)
+    if serial:
+        mc_tri = np.empty(_guess(old, "tri", n), np.int32)
+        ntri = nbr.tri_candidates_serial(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri,
+                                         mc_start, mc_tri)
+        if ntri <= len(mc_tri):
+            mc_tri = mc_tri[:ntri].copy()
+    else:
+        nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start,
+                           np.zeros(0, np.int32), True)
+        np.cumsum(mc_start[1:], out=mc_start[1:])
+        ntri = int(mc_start[-1])
+    if not serial or ntri > len(mc_tri):
+        mc_tri = np.empty(ntri, np.int32)
+        nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start,
+                           mc_tri, False)
     mc_hist = np.zeros((len(mc_tri), 3))
     if built:
         nbr.carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old.tri_start,

@@ -34,7 +34,9 @@ def _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
               fill):
     """The half-list partners of particle i (within R_i + R_j + skin, in a higher slab,
     or in the same slab with a higher index), found in the 27 cells around it: their
-    number, and with ``fill`` each written to ``nb_j[pos], nb_j[pos + 1], ...``."""
+    number, and with ``fill`` each written to ``nb_j[pos], nb_j[pos + 1], ...`` while
+    that lies inside ``nb_j`` (the count goes on past its end)."""
+    cap = nb_j.shape[0]
     cx, cy, cz = cell_coords(cell_of[i], dims)
     cnt = 0
     ri = radius[i]
@@ -51,7 +53,7 @@ def _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
                 d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
                       + (x[j, 2] - x[i, 2]) ** 2)
                 if d2 < rc * rc:
-                    if fill:
+                    if fill and pos + cnt < cap:
                         nb_j[pos + cnt] = j
                     cnt += 1
     return cnt
@@ -67,6 +69,24 @@ def find_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims
     for i in prange(n):
         counts[i] = _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list,
                               dims, nb_j, nb_start[i] if fill else 0, fill)
+
+
+@njit
+def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
+                      nb_start, nb_j):
+    """The half list in one serial pass (a small system on one thread: the count pass of
+    :func:`find_pairs` would double the search): the partners of particle i into
+    ``nb_j[nb_start[i]:nb_start[i+1]]``; ``nb_start`` is complete in any case. Returns
+    the number of pairs: when it exceeds ``len(nb_j)``, the list did not fit and
+    ``find_pairs(..., fill=True)`` must fill a longer one (``nb_start`` is right)."""
+    pos = np.int64(0)
+    write = nb_j.shape[0] >= 0          # True, typed as a plain bool (not a literal)
+    for i in range(n):
+        nb_start[i] = pos
+        pos += _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
+                         nb_j, pos, write)
+    nb_start[n] = pos
+    return pos
 
 
 #: particles per slab at least (on average) in a serial run of a small system: a slab
@@ -220,51 +240,79 @@ def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
     return counts, tcell_list
 
 
-@pjit
-def tri_candidates(n, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt,
-                   mc_start, mc_tri, count_only):
-    """Triangles closer than R_i + skin to particle i (count, or fill ``mc_tri``).
+@njit
+def _near_triangles(i, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt, out, pos,
+                    write):
+    """The triangles closer than R_i + skin to particle i: their number, and with
+    ``write`` each written to ``out[pos], out[pos + 1], ...`` while that lies inside
+    ``out`` (the count goes on past its end).
 
     A triangle whose plane is already that far from the centre is rejected before its
     closest point is sought (the bins hold many such: a cell lists every triangle
     within half a cell diagonal plus the reach of its centre)."""
+    cap = out.shape[0]
+    c = cell_of[i]
+    rc = radius[i] + skin
+    rc2 = rc * rc
+    cnt = 0
+    for m in range(tcell_start[c], tcell_start[c + 1]):
+        t = tcell_list[m]
+        a = mt[t, 0]
+        b = mt[t, 1]
+        c_ = mt[t, 2]
+        # plane test: ((x - a).N)^2 >= rc^2 |N|^2, N = (b - a) x (c - a)
+        ux = mv_x[b, 0] - mv_x[a, 0]
+        uy = mv_x[b, 1] - mv_x[a, 1]
+        uz = mv_x[b, 2] - mv_x[a, 2]
+        vx = mv_x[c_, 0] - mv_x[a, 0]
+        vy = mv_x[c_, 1] - mv_x[a, 1]
+        vz = mv_x[c_, 2] - mv_x[a, 2]
+        Nx = uy * vz - uz * vy
+        Ny = uz * vx - ux * vz
+        Nz = ux * vy - uy * vx
+        h = ((x[i, 0] - mv_x[a, 0]) * Nx + (x[i, 1] - mv_x[a, 1]) * Ny
+             + (x[i, 2] - mv_x[a, 2]) * Nz)
+        if h * h >= rc2 * (Nx * Nx + Ny * Ny + Nz * Nz):
+            continue
+        qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
+            x[i, 0], x[i, 1], x[i, 2], mv_x[a, 0], mv_x[a, 1], mv_x[a, 2],
+            mv_x[b, 0], mv_x[b, 1], mv_x[b, 2], mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2])
+        d2 = (qx - x[i, 0]) ** 2 + (qy - x[i, 1]) ** 2 + (qz - x[i, 2]) ** 2
+        if d2 < rc2:
+            if write and pos + cnt < cap:
+                out[pos + cnt] = t
+            cnt += 1
+    return cnt
+
+
+@pjit
+def tri_candidates(n, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt,
+                   mc_start, mc_tri, count_only):
+    """Triangles closer than R_i + skin to particle i (:func:`_near_triangles`): their
+    number into ``mc_start[i + 1]`` (``count_only``), or the triangles into
+    ``mc_tri[mc_start[i]:mc_start[i+1]]``."""
     for i in prange(n):
-        c = cell_of[i]
-        rc = radius[i] + skin
-        rc2 = rc * rc
-        cnt = 0
-        pos = mc_start[i]
-        for m in range(tcell_start[c], tcell_start[c + 1]):
-            t = tcell_list[m]
-            a = mt[t, 0]
-            b = mt[t, 1]
-            c_ = mt[t, 2]
-            # plane test: ((x - a).N)^2 >= rc^2 |N|^2, N = (b - a) x (c - a)
-            ux = mv_x[b, 0] - mv_x[a, 0]
-            uy = mv_x[b, 1] - mv_x[a, 1]
-            uz = mv_x[b, 2] - mv_x[a, 2]
-            vx = mv_x[c_, 0] - mv_x[a, 0]
-            vy = mv_x[c_, 1] - mv_x[a, 1]
-            vz = mv_x[c_, 2] - mv_x[a, 2]
-            Nx = uy * vz - uz * vy
-            Ny = uz * vx - ux * vz
-            Nz = ux * vy - uy * vx
-            h = ((x[i, 0] - mv_x[a, 0]) * Nx + (x[i, 1] - mv_x[a, 1]) * Ny
-                 + (x[i, 2] - mv_x[a, 2]) * Nz)
-            if h * h >= rc2 * (Nx * Nx + Ny * Ny + Nz * Nz):
-                continue
-            qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
-                x[i, 0], x[i, 1], x[i, 2], mv_x[a, 0], mv_x[a, 1], mv_x[a, 2],
-                mv_x[b, 0], mv_x[b, 1], mv_x[b, 2], mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2])
-            d2 = (qx - x[i, 0]) ** 2 + (qy - x[i, 1]) ** 2 + (qz - x[i, 2]) ** 2
-            if d2 < rc2:
-                if count_only:
-                    cnt += 1
-                else:
-                    mc_tri[pos] = t
-                    pos += 1
+        cnt = _near_triangles(i, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x,
+                              mt, mc_tri, mc_start[i] if not count_only else mc_start[0],
+                              not count_only)
         if count_only:
             mc_start[i + 1] = cnt
+
+
+@njit
+def tri_candidates_serial(n, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt,
+                          mc_start, mc_tri):
+    """:func:`tri_candidates` in one serial pass (see :func:`find_pairs_serial`): returns
+    the number of candidates; more than ``len(mc_tri)``: fill a longer list with
+    ``tri_candidates(..., count_only=False)`` (``mc_start`` is right)."""
+    pos = np.int64(0)
+    write = mc_tri.shape[0] >= 0
+    for i in range(n):
+        mc_start[i] = pos
+        pos += _near_triangles(i, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x,
+                               mt, mc_tri, pos, write)
+    mc_start[n] = pos
+    return pos
 
 
 @pjit

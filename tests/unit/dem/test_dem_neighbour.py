@@ -203,3 +203,64 @@ def test_plane_moving_onto_particles_is_seen():
     assert sim.x[0, 0] - x_plane > 0.9e-3          # pushed ahead, never passed through
     assert sim.v[0, 0] > 0.5
     assert sim.n_rebuilds > 5
+
+
+@pytest.mark.parametrize("short", [False, True])
+def test_one_pass_serial_lists_equal_the_two_pass_parallel_ones(short):
+    """A small system on one thread builds its pair and triangle lists in one pass
+    (:func:`gsi.dem.neighbour.find_pairs_serial`, ``tri_candidates_serial``) into arrays
+    sized from the last build; they equal the two-pass lists entry by entry, also when
+    the guessed array is too short (``short``: the count is complete and a fill pass
+    writes a longer list)."""
+    from gsi.dem import cells, neighbour as nbr
+    rng = np.random.default_rng(3)
+    L, skin = 0.02, 1.5e-3
+    lo, hi = np.zeros(3), np.full(3, L)
+    x, r = random_fill(Box((0, 0, 0), (L, L, L)), 1e-3, count=400, rng=rng)
+    r = r * rng.uniform(0.7, 1.0, len(r))
+    n = len(x)
+    dims, inv_cs = cells.grid_for(lo, hi, 2 * r.max() + skin, n)
+    cell_of = np.empty(n, np.int64)
+    cells.cell_index(n, x, lo, inv_cs, dims, cell_of)
+    cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
+    slab_of, _, _ = nbr.slab_sort(n, x, cell_list, 2, *nbr.slab_layout(x[:, 2], 3e-3, 1))
+    counts, two_start = np.empty(n, np.int64), np.zeros(n + 1, np.int64)
+    args = (n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims)
+    nbr.find_pairs(*args, counts, two_start, np.empty(0, np.int32), False)
+    np.cumsum(counts, out=two_start[1:])
+    two_j = np.empty(two_start[-1], np.int32)
+    nbr.find_pairs(*args, counts, two_start, two_j, True)
+    assert len(two_j) > 500
+    one_start = np.zeros(n + 1, np.int64)
+    one_j = np.full(len(two_j) // 2 if short else len(two_j) + 10, -1, np.int32)
+    npair = nbr.find_pairs_serial(*args, one_start, one_j)
+    assert npair == len(two_j)
+    np.testing.assert_array_equal(one_start, two_start)
+    if short:                        # written up to the end of the short array only
+        np.testing.assert_array_equal(one_j, two_j[:len(one_j)])
+    else:
+        np.testing.assert_array_equal(one_j[:npair], two_j)
+        assert np.all(one_j[npair:] == -1)
+    # triangles: a folded sheet of 200 triangles across the box
+    g = np.linspace(0, L, 11)
+    X, Y = np.meshgrid(g, g, indexing="ij")
+    vx = np.column_stack([X.ravel(), Y.ravel(), 0.5 * L + 0.3 * np.abs(X.ravel() - 0.5 * L)])
+    k = np.arange(100).reshape(10, 10)
+    a, b, c, d = k[:, :] + k[:, :] // 10, k + k // 10 + 1, k + k // 10 + 11, k + k // 10 + 12
+    tri = np.vstack([np.column_stack([a.ravel(), b.ravel(), d.ravel()]),
+                     np.column_stack([a.ravel(), d.ravel(), c.ravel()])]).astype(np.int64)
+    tstart, tlist = nbr.bin_triangles(vx, tri, lo, inv_cs, dims, r.max() + skin)
+    targs = (n, x, r, skin, cell_of, tstart, tlist, vx, tri)
+    t_start = np.zeros(n + 1, np.int64)
+    nbr.tri_candidates(*targs, t_start, np.zeros(0, np.int32), True)
+    np.cumsum(t_start[1:], out=t_start[1:])
+    t_tri = np.empty(t_start[-1], np.int32)
+    nbr.tri_candidates(*targs, t_start, t_tri, False)
+    assert len(t_tri) > 50
+    o_start = np.zeros(n + 1, np.int64)
+    o_tri = np.full(len(t_tri) // 2 if short else len(t_tri) + 5, -1, np.int32)
+    ntri = nbr.tri_candidates_serial(*targs, o_start, o_tri)
+    assert ntri == len(t_tri)
+    np.testing.assert_array_equal(o_start, t_start)
+    m = min(len(o_tri), ntri)
+    np.testing.assert_array_equal(o_tri[:m], t_tri[:m])
