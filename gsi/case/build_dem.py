@@ -26,7 +26,8 @@ def build_simulation(case, *, dt: float):
         domain=(case.dem.domain_lo, case.dem.domain_hi), force_dt=case.dem.force_dt,
         pair_overrides=case.pair_overrides(), seed=case.run.seed, dt_checked=True,
         # dem.skin not given: adaptive between 0.4 and 1 x the smallest radius
-        skin_max=r_min if case.dem.skin is None else None)
+        skin_max=r_min if case.dem.skin is None else None,
+        frictional_heating=case.dem.frictional_heating)
     radiation = case.radiation_options()
     if radiation is not None:
         sim.set_radiation(**radiation)

@@ -24,6 +24,13 @@ Each ``[[monitors]]`` table is one :class:`Monitor`; its ``kind`` says what it m
     of ``cells`` sample cells over the box ``region``; cells with fewer than ``min_count``
     particles are left out (:func:`gsi.post.mixing.lacey_index`). 0: segregated, 1:
     randomly mixed. Also the number of cells kept and their mean count.
+``energy``
+    The energy book of the particles (:mod:`gsi.dem.energy`): kinetic, elastic (contact
+    springs), gravitational and thermal energy, the work of moving walls on them, the
+    heat from walls into them, the walls' share of the frictional heat, the heat that
+    friction generated, and the book's drift since the first sample of this run (J, and
+    relative to the heat generated + kinetic + elastic energy). Without
+    ``dem.frictional_heating`` the drift is the dissipated energy.
 
 A monitor samples every ``interval`` seconds of simulated time (default: the output
 interval); the runner makes sure a sample falls on each multiple of it.
@@ -42,7 +49,8 @@ from gsi.errors import GsiInputError
 
 __all__ = ["Monitor", "MONITOR_KINDS"]
 
-MONITOR_KINDS = ("wall", "discharge", "temperature", "structure", "particles", "mixing")
+MONITOR_KINDS = ("wall", "discharge", "temperature", "structure", "particles", "mixing",
+                 "energy")
 
 _COLUMNS = {
     "wall": ["Fx_N", "Fy_N", "Fz_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"],
@@ -52,6 +60,9 @@ _COLUMNS = {
                   "load_y_N", "load_z_N"],
     "particles": ["count", "lost", "kinetic_energy_J", "contacts", "bed_top_m"],
     "mixing": ["lacey", "cells", "mean_count"],
+    "energy": ["kinetic_J", "elastic_J", "gravity_J", "thermal_J", "wall_work_J",
+               "boundary_heat_J", "friction_to_walls_J", "heat_generated_J", "drift_J",
+               "drift_rel"],
 }
 
 
@@ -78,7 +89,7 @@ class Monitor:
 
     def validate(self, path: str) -> None:
         need = {"wall": ("target",), "structure": ("target",), "discharge": ("normal",),
-                "temperature": (), "particles": (),
+                "temperature": (), "particles": (), "energy": (),
                 "mixing": ("group", "region", "cells")}[self.kind]
         for key in need:
             if getattr(self, key) is None:
@@ -86,7 +97,8 @@ class Monitor:
                                     f"{', '.join(need)}")
         uses = {"wall": ("target", "point"), "structure": ("target",),
                 "discharge": ("point", "normal"), "temperature": ("group", "region"),
-                "particles": (), "mixing": ("group", "region", "cells", "min_count")}[self.kind]
+                "particles": (), "energy": (),
+                "mixing": ("group", "region", "cells", "min_count")}[self.kind]
         for key in ("target", "group", "region", "cells", "normal"):
             if getattr(self, key) is not None and key not in uses:
                 raise GsiInputError(f"{path}.{key}: a '{self.kind}' monitor does not use it "
@@ -168,6 +180,8 @@ class Monitor:
             T = sim.T[rows]
             return [float((mcp * T).sum() / mcp.sum()), float(T.min()), float(T.max()),
                     len(rows)]
+        if self.kind == "energy":
+            return self._energy_row(sim)
         if self.kind == "mixing":
             from gsi.post.mixing import lacey_index
             is_a = np.isin(sim.ids, run.group_ids(self.group))
@@ -180,3 +194,13 @@ class Monitor:
         top = float((sim.x @ up + sim.radius).max()) if sim.n else math.nan
         return [int(sim.n), int(sim.n_lost), sim.kinetic_energy(), int(sim.contact_count()),
                 top]
+
+    def _energy_row(self, sim) -> list[float]:
+        """The ``energy`` row; the book's reference is the first sample of this process
+        (after a restart: the restart)."""
+        from gsi.dem.energy import EnergyAudit
+        audit = getattr(self, "_audit", None)
+        if audit is None or audit.sim is not sim:
+            audit = self._audit = EnergyAudit(sim)
+        p = audit.sample()
+        return [p[k[:-2]] for k in _COLUMNS["energy"][:-1]] + [p["drift_rel"]]

@@ -83,6 +83,10 @@ class Dem:
     radiation_T_enclosure: Optional[float] = param(
         None, unit="K", check=nonnegative(),
         doc="black enclosure seen by particles with no radiation neighbour (default: none)")
+    frictional_heating: bool = param(
+        False, doc="energy dissipated in contacts (normal damping, sliding, rolling "
+                   "resistance) heats the two bodies, half each; a thermal wall's half "
+                   "reaches the FE heat solve")
     skin: Optional[float] = param(None, unit="m", check=positive(),
                                   doc="Verlet skin, fixed (default: adaptive, 0.4 to 1 x the smallest radius, "
                                       "aiming at 10 steps between list builds)")

@@ -57,8 +57,9 @@ class ThermalRecord:
     t_thermal: float         # s, time of the physical system (time_scale * t)
     Q_particles: float       # J, heat leaving the particles into the wall over the step
     Q_radiation: float       # J, the part of Q_particles carried by radiation
+    Q_friction: float        # J, the wall's share of the frictional heat over the step
     Q_structure: float       # J, heat entering the structure through the nodal loads
-    balance_error: float     # J, Q_structure - Q_particles
+    balance_error: float     # J, Q_structure - Q_particles - Q_friction
     heat_flow: float         # W, Q_structure / dt_FE: heat flow into the wall
     Q_boundary_loss: float   # J, heat leaving the structure through its boundary (convection)
     Q_planes: float          # J, heat from DEM planes with a temperature (and the radiation
@@ -142,6 +143,8 @@ class RecordLog:
                 for c in self.columns()}
 
     def _set_records_state(self, d: dict) -> None:
-        cols = {c: d[f"rec.{c}"].tolist() for c in self.columns()}
-        n = len(cols[self.columns()[0]])
+        n = len(d[f"rec.{self.columns()[0]}"])
+        # a column added later (Q_friction) reads as 0 from older checkpoints
+        cols = {c: d[f"rec.{c}"].tolist() if f"rec.{c}" in d else [0.0] * n
+                for c in self.columns()}
         self.records = [self.RECORD(**{c: cols[c][i] for c in cols}) for i in range(n)]

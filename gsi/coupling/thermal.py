@@ -34,9 +34,12 @@ Energy record, per coupling step (``ThermalRecord``; also ``energy.csv``):
 
 * ``Q_particles`` heat leaving the particles into this wall over the step (J), conduction
   and (``dem.radiation``, :mod:`gsi.dem.radiation`) radiation; ``Q_radiation`` the
-  radiated part of it (J),
+  radiated part of it (J); ``Q_friction`` the wall's share of the frictional heat
+  (``dem.frictional_heating``, :mod:`gsi.dem.contact.dissipation`; J), which reaches the
+  structure through the same nodal loads;
   ``Q_structure`` heat entering the structure through the nodal loads (J, summed over the
-  owned dofs of all ranks), ``balance_error`` = Q_structure - Q_particles (round-off);
+  owned dofs of all ranks), ``balance_error`` = Q_structure - Q_particles - Q_friction
+  (round-off);
 * ``Q_boundary_loss`` heat leaving the structure through its boundary over the step (J):
   convection/flux tags theta-weighted exactly as the theta-scheme applies them, plus the
   Dirichlet residual flow on fixed-temperature tags, plus the radiation of radiating tags
@@ -46,7 +49,8 @@ Energy record, per coupling step (``ThermalRecord``; also ``energy.csv``):
   contacts with other structures (J; :mod:`gsi.fem.contact_heat`, 0 without);
 * ``drift`` = E_particles + E_structure + (cumulative boundary loss) - (initial
   E_particles + E_structure) - (cumulative heat from DEM planes with a temperature)
-  - (cumulative Q_contact) - (cumulative heat from the radiation enclosure) (J):
+  - (cumulative Q_contact) - (cumulative heat from the radiation enclosure)
+  - (cumulative frictional heat made in the particles and this wall) (J):
   zero to round-off while no particle leaves the domain or is inserted, and while this
   is the only heated wall of the DEM (with two coupled structures on one DEM the
   particles' energy also changes by the other's heat; ``balance_error`` still holds
@@ -208,7 +212,7 @@ class ThermalCoupling(RecordLog):
         self.t = 0.0
         self._cum_loss = 0.0
         self._cum_planes = 0.0
-        self._cum_contact = 0.0
+        self._cum_contact = self._cum_friction = 0.0
         self._pending = None
         self._E0 = None
         self._interval = None
@@ -257,7 +261,7 @@ class ThermalCoupling(RecordLog):
         if self.is_root:
             self.wall.vertex_temperature = self.wall_temperature()
             planes0 = [p.heat_to_particles for p in self.sim.planes] + _radiation_totals(
-                self.sim, self.wall)
+                self.sim, self.wall) + _friction_totals(self.sim, self.wall)
         if self.mechanics is not None:
             self.elasticity.set_temperature(self.heat.T)     # thermal strain of this solve: T_k
             self.mechanics.begin()
@@ -287,9 +291,11 @@ class ThermalCoupling(RecordLog):
             sim, wall = self.sim, self.wall
             W = itf.vertex_heat(wall.vertex_heat) / self.dt   # W into the structure
             E_p, T_mean, T_max = _particle_energy(sim, self.T_ref)
-            rad_wall, rad_enc = (a - b for a, b in zip(_radiation_totals(sim, wall),
-                                                      planes0[len(sim.planes):]))
+            rad_wall, rad_enc, fr_wall, fr_part = (a - b for a, b in zip(  # older: no friction
+                _radiation_totals(sim, wall) + _friction_totals(sim, wall),
+                (planes0[len(sim.planes):] + [0.0, 0.0])[:4]))
             info = dict(Q_particles=-wall.heat_to_particles, Q_radiation=-rad_wall,
+                        Q_friction=fr_wall, Q_friction_made=fr_wall + fr_part,
                         Q_planes=rad_enc + sum(p.heat_to_particles - q0 for p, q0 in
                                                zip(sim.planes, planes0)
                                                if p.temperature is not None),
@@ -327,16 +333,18 @@ class ThermalCoupling(RecordLog):
         self._cum_loss += Q_loss
         self._cum_planes += info["Q_planes"]
         self._cum_contact += Q_contact
+        self._cum_friction += info["Q_friction_made"]
         E_s = self.structure_energy()
         E_p = info["E_particles"]
         drift = E_p + E_s + self._cum_loss - self._cum_planes - self._cum_contact - self._E0
+        drift -= self._cum_friction
         _, T_max = heat.min_max()
         m = heat.material
         rec = ThermalRecord(
             step=self.step_count, t=self.t, t_thermal=self.time_scale * self.t,
             Q_particles=info["Q_particles"], Q_radiation=info["Q_radiation"],
-            Q_structure=Q_structure,
-            balance_error=Q_structure - info["Q_particles"], heat_flow=Q_structure / self.dt,
+            Q_friction=info["Q_friction"], Q_structure=Q_structure, heat_flow=Q_structure / self.dt,
+            balance_error=Q_structure - info["Q_particles"] - info["Q_friction"],
             Q_boundary_loss=Q_loss, Q_planes=info["Q_planes"], Q_contact=Q_contact,
             E_particles=E_p, E_structure=E_s, drift=drift, T_wall_max=T_max,
             T_wall_mean=self.T_ref + E_s / (m.rho * m.c * heat.volume()),
@@ -386,15 +394,15 @@ class ThermalCoupling(RecordLog):
                                     getattr(self, "_dem_step0", -1)], np.int64),
                  scalars=np.array([self.t, self._cum_loss, self._cum_planes,
                                    math.nan if self._E0 is None else self._E0,
-                                   self._cum_contact], np.float64),
+                                   self._cum_contact, self._cum_friction], np.float64),
                  T_surf=np.array(self._T_surf), planes0=np.array(planes0, np.float64))
         return d
 
     def set_state(self, d: dict) -> None:
         """Restore :meth:`state` (no MPI call, nothing recomputed)."""
         self.step_count, is_open, has_planes, dem_step0 = (int(v) for v in d["counters"])
-        self.t, self._cum_loss, self._cum_planes, E0, self._cum_contact = (
-            float(v) for v in d["scalars"])
+        self.t, self._cum_loss, self._cum_planes, E0, self._cum_contact, self._cum_friction = (
+            float(v) for v in (list(d["scalars"]) + [0.0])[:6])    # older: no friction
         self._E0 = None if math.isnan(E0) else E0
         self._T_surf = np.array(d["T_surf"])
         self._set_records_state(d)
@@ -446,6 +454,12 @@ def _radiation_totals(sim, wall):
     if rad is None:
         return [0.0, 0.0]
     return [rad.heat_from(wall), rad.enclosure_heat]
+
+
+def _friction_totals(sim, wall):
+    """[frictional heat into ``wall``, frictional heat into the particles] since the start
+    (J; ``dem.frictional_heating``, :mod:`gsi.dem.contact.dissipation`)."""
+    return [wall.friction_heat, float(sim.particles.heat_friction.sum())]
 
 
 def _particle_energy(sim, T_ref):

@@ -103,7 +103,8 @@ def restore(sim, d):
     sim.pairs = Pairs(*[np.array(d[f"pairs.{k}"], order="C") for k in Pairs._fields])
     for prefix, bundle in (("planes", sim.plane_state), ("mesh", sim.mesh_state)):
         for k, a in zip(bundle._fields, bundle):
-            a[...] = d[f"{prefix}.{k}"]
+            # accumulators added later (frictional heat, wall work) start at 0
+            a[...] = d.get(f"{prefix}.{k}", 0.0)
     sim.ids_at_build = np.array(d["ids_at_build"], np.int64)
     sim.time = float(d["scalars"][0])
     # the skin of the restored lists (checkpoints before the adaptive skin: the fixed one)

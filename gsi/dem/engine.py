@@ -38,7 +38,7 @@ import numpy as np
 from gsi.jit import njit, pjit, prange, uint
 from gsi.dem.contact.lanes import CH, NB, A2, RI, RJ, DTEMP, Q
 from gsi.dem.contact.model import (evaluate_heat, model_ids, M_HEAT, M_LOG, M_ROLLING,
-                                   NORMAL, ROLLING, HEAT)
+                                   M_FRICTION, NORMAL, ROLLING, HEAT)
 from gsi.dem.contact_geometry import spheres_touch, wall_radius2, plane_distance
 from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample, empty_log_state
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
@@ -71,7 +71,8 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     pl = Planes(*plt)
     M = Mesh(*Mt)
     wc = WallContacts(*wct)
-    heat_on = model[M_HEAT] != 0
+    # frictional heat also heats the particles (T += dt Q/(m c_p))
+    heat_on = model[M_HEAT] != 0 or model[M_FRICTION] != 0
     roll_on = model[M_ROLLING] != 0
     # pair batch: lanes, lane -> pair row, partner, table row; batch rows and their lanes
     B = np.zeros(NB * CH)     # zeros: see gsi.dem.contact.model.evaluate
@@ -123,7 +124,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
         m0 = pairs.slab_start[0] if sl == 1 else pairs.slab_start[sl]
         m1 = pairs.slab_start[min(sl + 2, nslab)]
         dm, no, bd = integrate_rows(m0, m1, pairs.slab_list, mode, heat_on, 0.5 * dt, dt,
-                                    gx, gy, gz, P, lo, hi, vmax2)
+                                    gx, gy, gz, P, lo, hi, vmax2, model[M_FRICTION] != 0)
         scan_out[sl, 0] = dm
         scan_out[sl, 1] = no
         scan_out[sl, 2] = bd
@@ -175,12 +176,12 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
     gy = g[1]
     gz = g[2]
     log_on = model[M_LOG] != 0
-    heat_on = model[M_HEAT] != 0
+    heat_on = model[M_HEAT] != 0 or model[M_FRICTION] != 0
     forces_only = nsteps == FORCES_ONLY
     npl = pl.point.shape[0]
     nv = M.x.shape[0]
     nslab = pairs.slab_start.shape[0] - 1
-    pl_acc = np.zeros((nslab, npl, 7))
+    pl_acc = np.zeros((nslab, npl, 8))
     scan_out = np.zeros((nslab, 3))
     nt = table.shape[0]
     tab = table.reshape((nt * nt, table.shape[2]))
@@ -219,7 +220,7 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
         if nslab == 1 and mode > 0:        # no second colour: the one slab is complete now
             dm, no, bd = integrate_rows(pairs.slab_start[0], P.x.shape[0], pairs.slab_list,
                                         mode, heat_on, half_dt, dt, gx, gy, gz, P, lo, hi,
-                                        vmax2)
+                                        vmax2, model[M_FRICTION] != 0)
             scan_out[0, 0] = dm
             scan_out[0, 1] = no
             scan_out[0, 2] = bd
@@ -348,6 +349,7 @@ class Engine:
     def __init__(self, model):
         self.model = model
         self.heat_on = bool(model[M_HEAT] != 0)
+        self.friction_on = bool(model[M_FRICTION] != 0)
 
     def advance(self, nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs,
                 pl, M, wc, table, lg):
@@ -377,7 +379,7 @@ def is_cached():
                           recursive=True))
 
 
-def get_engine(contact="hertz", rolling=False, heat=None, log=False):
+def get_engine(contact="hertz", rolling=False, heat=None, log=False, friction=False):
     """The engine for a contact law, rolling law and heat model (by registry name), with
     or without the contact log: the one compiled engine bound to these sub-models.
 
@@ -392,6 +394,9 @@ def get_engine(contact="hertz", rolling=False, heat=None, log=False):
         "radius", "constant", "pipe").
     log : bool
         Sample contacts into the contact log (:mod:`gsi.dem.contact_log`).
+    friction : bool
+        Frictional heating (:mod:`gsi.dem.contact.dissipation`): the power each contact
+        dissipates heats its two bodies, half each.
     """
     if contact not in NORMAL:
         raise GsiInputError(f"contact = {contact!r}: must be one of {sorted(NORMAL)}")
@@ -400,4 +405,4 @@ def get_engine(contact="hertz", rolling=False, heat=None, log=False):
     if heat is not None and heat not in HEAT:
         raise GsiInputError(
             f"heat = {heat!r}: must be one of None, 'area', 'radius', 'constant', 'pipe'")
-    return Engine(model_ids(contact, "history", rolling, heat, log))
+    return Engine(model_ids(contact, "history", rolling, heat, log, friction))

@@ -118,13 +118,20 @@ def scan(P, lo, hi, vmax2):
 
 @njit
 def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P, lo, hi,
-                   vmax2):
+                   vmax2, fric_on):
     """Particles ``slab_list[m0:m1]``, whose forces are complete: the second half kick
     v += dt/2 F/m, omega += dt/2 T/I and (``heat_on``) heat T += dt Q/(m c_p); with
     ``mode`` 2 also the next step's first half kick, drift and clear
     (:func:`drift_one`), returning the scan of those particles: (max squared
     displacement since build, number outside the domain, lowest row whose speed is NaN
     or above sqrt(vmax2), else -1) as :func:`scan` does.
+
+    ``fric_on`` (frictional heating): the contacts booked their heat with the velocity
+    the force laws use, v_(n-1/2); the energy the step's forces take is paired with the
+    full-step velocity v_n = v_(n-1/2) + dt/2 F/m (velocity Verlet), so each particle
+    adds -F_d . (dt/2 F/m) dt - T_d . (dt/2 T/I) dt to its heat, F_d dt and T_d dt its
+    dissipative impulses ``P.fd``, ``P.td`` (then cleared): the frictional heat is then
+    second-order accurate (docs/design.md, "Frictional heating").
 
     The arithmetic is that of :func:`kick_one` twice, :func:`drift_one` and
     :func:`scan_one`, bitwise, written out so that a particle's values stay in registers
@@ -156,6 +163,15 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
         w2 = w[i, 2] + b * tq[i, 2]
         if heat_on:
             P.T[i] += dt * P.q[i] * P.mcp_inv[i]
+        if fric_on:
+            corr = 0.0
+            for d in range(3):
+                corr -= P.fd[i, d] * (a * f[i, d]) + P.td[i, d] * (b * tq[i, d])
+                P.fd[i, d] = 0.0
+                P.td[i, d] = 0.0
+            if free:
+                P.T[i] += corr * P.mcp_inv[i]
+                P.heat_friction[i] += corr
         if mode == 2:
             v0 = v0 + a * f[i, 0]
             v1 = v1 + a * f[i, 1]

@@ -13,8 +13,8 @@ from gsi.jit import njit, sqrt, uint
 from gsi.dem.contact.lanes import (
     NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IEFF, WX, WY, WZ, A2, RI, RJ, DTEMP,
     HX, HY, HZ, FX, FY, FZ, MX, MY, MZ, Q, AI, AJ, MI, MJ, II, IJ, WIX, WIY, WIZ, TIX, TIY,
-    TIZ, TJX, TJY, TJZ)
-from gsi.dem.contact.model import evaluate, M_ROLLING
+    TIZ, TJX, TJY, TJZ, QF, FDX, FDY, FDZ)
+from gsi.dem.contact.model import evaluate, M_ROLLING, M_FRICTION
 from gsi.dem.contact_geometry import spheres_touch
 
 
@@ -185,6 +185,41 @@ def pair_torques(n, B):
 
 
 @njit(_nrt=False)
+def dissipative_impulse(B, l, i, j, P, dt):
+    """Add the dissipative force of lane ``l`` times dt to ``P.fd`` of i (and -F_d to j,
+    if j >= 0) and its torques a_i n x F_d + M_r, a_j n x F_d - M_r times dt to ``P.td``
+    (see :func:`gsi.dem.integrate.integrate_rows`: the second-order correction of the
+    frictional heat)."""
+    nx = B[NX + l]
+    ny = B[NY + l]
+    nz = B[NZ + l]
+    fx = B[FDX + l] * dt
+    fy = B[FDY + l] * dt
+    fz = B[FDZ + l] * dt
+    cx = ny * fz - nz * fy
+    cy = nz * fx - nx * fz
+    cz = nx * fy - ny * fx
+    mx = B[MX + l] * dt
+    my = B[MY + l] * dt
+    mz = B[MZ + l] * dt
+    a_i = B[AI + l]
+    P.fd[i, 0] += fx
+    P.fd[i, 1] += fy
+    P.fd[i, 2] += fz
+    P.td[i, 0] += a_i * cx + mx
+    P.td[i, 1] += a_i * cy + my
+    P.td[i, 2] += a_i * cz + mz
+    if j >= 0:
+        a_j = B[AJ + l]
+        P.fd[j, 0] -= fx
+        P.fd[j, 1] -= fy
+        P.fd[j, 2] -= fz
+        P.td[j, 0] += a_j * cx - mx
+        P.td[j, 1] += a_j * cy - my
+        P.td[j, 2] += a_j * cz - mz
+
+
+@njit(_nrt=False)
 def evaluate_runs(n, B, lrow, tab, dt, model):
     """:func:`gsi.dem.contact.model.evaluate` over lanes 0..n-1, one call per run of lanes
     that share a pair-table row (a loop-invariant row keeps the table reads out of the
@@ -201,7 +236,9 @@ def evaluate_runs(n, B, lrow, tab, dt, model):
 @njit(_nrt=False)
 def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model, heat_on):
     """The contact model over the batch's ``n`` pair lanes, then each of its ``nrow`` rows:
-    its pairs added to both particles (Newton's third law), the springs stored."""
+    its pairs added to both particles (Newton's third law), the springs stored; with
+    frictional heating, half the dissipated power of each contact into each particle
+    (``q``, and ``heat_friction`` += QF/2 dt; ``heat_on`` is then set too)."""
     pair_geometry(n, B)
     if model[M_ROLLING] != 0:
         pair_inertia(n, B)
@@ -212,6 +249,7 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
     f = P.force
     tq = P.torque
     hist = pairs.hist
+    fric_on = model[M_FRICTION] != 0
     for b in range(nrow):
         i = brow[b]
         fx = 0.0
@@ -247,6 +285,13 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
                 Qp = B[Q + l]
                 qi += Qp
                 P.q[j] -= Qp
+            if fric_on:
+                h = 0.5 * B[QF + l]
+                qi += h
+                P.q[j] += h
+                P.heat_friction[i] += h * dt
+                P.heat_friction[j] += h * dt
+                dissipative_impulse(B, l, np.int64(i), np.int64(j), P, dt)
         P.ncontact[i] += np.int32(blane[b + 1] - blane[b])
         f[i, 0] += fx
         f[i, 1] += fy

@@ -114,13 +114,15 @@ class Simulation(ParticleViews, WallViews):
     skin_max : float, optional
         Largest skin (m) of the adaptive skin (:func:`gsi.dem.lists.adaptive_skin`);
         default: the skin is fixed at ``skin``.
+    frictional_heating : bool, default False
+        Dissipated contact energy heats both bodies (:mod:`gsi.dem.contact.dissipation`).
     """
 
     def __init__(self, materials, *, contact="hertz", rolling=False, heat=None, h_c=None,
                  pipe_length=None, pipe_resistance=0.0, k_n=None, gravity=(0.0, 0.0, -9.81),
                  dt, skin, domain, force_dt=False, v_max=100.0, lost="delete",
                  pair_overrides=None, seed=None, parallel_min_n=2000, sort_particles=False,
-                 dt_checked=False, skin_max=None):
+                 dt_checked=False, skin_max=None, frictional_heating=False):
         lo, hi = checks.check_options(materials, dt, skin, contact, k_n, heat, h_c, pipe_length,
                                       pipe_resistance, lost, domain)
         self.material_set = MaterialSet(materials, k_n=k_n, h_c=h_c, pipe_length=pipe_length,
@@ -128,8 +130,8 @@ class Simulation(ParticleViews, WallViews):
                                         pair_overrides=pair_overrides)
         self.materials, self.table = self.material_set.materials, self.material_set.table
         # the engine of these laws, and its logging variant (:attr:`engine`)
-        self._engines = (get_engine(contact, rolling, heat),
-                         get_engine(contact, rolling, heat, log=True))
+        self.frictional_heating = fh = bool(frictional_heating)
+        self._engines = tuple(get_engine(contact, rolling, heat, lg, fh) for lg in (False, True))
         self.contact, self.rolling, self.heat = contact, rolling, heat
         self.k_n, self.h_c = k_n, h_c
         self.g = vec3(gravity, "gravity")

@@ -51,6 +51,9 @@ PARTICLE_FIELDS = {
     "ncontact": ((), np.int32),      # contacts at the last step
     "x0": ((3,), np.float64),        # position at the last neighbour build (m)
     "id": ((), np.int64),            # stable particle id (ascending in the rows)
+    "heat_friction": ((), np.float64),  # accumulated frictional heat into it (J)
+    "fd": ((3,), np.float64),        # this step's dissipative force x dt (N s; friction heat)
+    "td": ((3,), np.float64),        # this step's dissipative torque x dt (N m s)
 }
 
 #: per-particle wall-contact state: name -> (trailing shape, dtype)
@@ -67,6 +70,7 @@ WALL_CONTACT_FIELDS = {
     "force": (("S", 3), np.float64),         # force on the particle (N)
     "heat": (("S",), np.float64),            # heat rate into the particle (W)
     "point": (("S", 3), np.float64),         # contact point (m)
+    "fheat": (("S",), np.float64),           # frictional heat rate into the wall (W)
 }
 
 #: per-particle state, views of the first n rows (see :data:`PARTICLE_FIELDS`)
@@ -102,6 +106,8 @@ Planes = namedtuple("Planes", [
     "torque",       # (npl, 3): their torque about ``point`` (N m)
     "impulse",      # (npl, 3): accumulated impulse ON the particles (N s)
     "heat",         # (npl,): accumulated heat INTO the particles (J)
+    "friction_heat",  # (npl,): accumulated frictional heat INTO the plane (J)
+    "work",         # (npl,): accumulated work of the plane ON the particles (J)
 ])
 """Infinite plane walls."""
 
@@ -129,6 +135,8 @@ Mesh = namedtuple("Mesh", [
     "wall_torque",  # (nw, 3): their torque about the centre (N m)
     "wall_impulse",  # (nw, 3): accumulated impulse ON the particles (N s)
     "wall_heat",    # (nw,): accumulated heat INTO the particles (J)
+    "wall_friction_heat",  # (nw,): accumulated frictional heat INTO the wall (J)
+    "wall_work",    # (nw,): accumulated work of the wall ON the particles (J)
 ])
 """Triangle-mesh walls (all walls' vertices and triangles in global arrays)."""
 
@@ -145,7 +153,7 @@ def empty_planes():
     """A plane bundle with no planes."""
     return Planes(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)),
                   np.zeros(0, np.int32), np.zeros(0), np.zeros(0, np.uint8), np.zeros((0, 3)),
-                  np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0))
+                  np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0))
 
 
 def append_plane(pl, point, normal, velocity, mtype, T):
@@ -157,12 +165,12 @@ def append_plane(pl, point, normal, velocity, mtype, T):
                   row(pl.type, mtype), row(pl.T, 0.0 if T is None else T),
                   row(pl.has_T, T is not None), row(pl.force, np.zeros(3)),
                   row(pl.torque, np.zeros(3)), row(pl.impulse, np.zeros(3)),
-                  row(pl.heat, 0.0))
+                  row(pl.heat, 0.0), row(pl.friction_heat, 0.0), row(pl.work, 0.0))
 
 
 def mesh_bundle(x, v, T, vertex_wall, tri, tri_edge, tri_wall, p6, lam, walls):
     """A :data:`Mesh` of the given vertex and triangle arrays with fresh accumulators;
-    ``walls`` holds the per-wall arrays (wall_type ... wall_heat) in field order."""
+    ``walls`` holds the per-wall arrays (wall_type ... wall_work) in field order."""
     x = np.ascontiguousarray(x, float)
     return Mesh(x, np.ascontiguousarray(v, float), np.ascontiguousarray(T, float), x.copy(),
                 np.ascontiguousarray(vertex_wall, np.int32), np.ascontiguousarray(tri, np.int32),
@@ -176,7 +184,7 @@ def empty_mesh():
     """A mesh bundle with no walls."""
     walls = (np.zeros(0, np.int32), np.zeros(0, np.uint8), np.zeros(0, np.uint8),
              np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)),
-             np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0))
+             np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0))
     return mesh_bundle(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int32),
                        np.zeros((0, 3), np.int32), np.zeros((0, 3), np.int64),
                        np.zeros(0, np.int32), np.zeros((0, 6), np.int32),

@@ -158,10 +158,11 @@ class ParticleStore:
         """Restore :meth:`state` of ``n`` particles."""
         self.n = 0
         self.allocate(max(16, n))
+        # fields added later (frictional heat) start at 0 from older checkpoints
         for k in PARTICLE_FIELDS:
-            self.particle[k][:n] = d[f"p.{k}"]
+            self.particle[k][:n] = d.get(f"p.{k}", 0)
         for k in WALL_CONTACT_FIELDS:
-            self.wall[k][:n] = d[f"wc.{k}"]
+            self.wall[k][:n] = d.get(f"wc.{k}", 0)
         self.overflow[:] = d["wc.overflow"]
         self.n = n
 

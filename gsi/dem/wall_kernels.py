@@ -85,8 +85,9 @@ def move_walls(dt, pl, M):
 @njit
 def plane_sums(dt, pl_acc, pl):
     """Force and torque of the particles ON each plane (torque about the plane's point)
-    from the per-slab sums ``pl_acc`` (nslab, npl, 7) of the force pass; accumulate the
-    impulse on the particles (N s) and the heat to them (J); clear the sums."""
+    from the per-slab sums ``pl_acc`` (nslab, npl, 8) of the force pass; accumulate the
+    impulse on the particles (N s), the heat to them (J), the frictional heat into the
+    plane (J) and the plane's work on the particles, F . v_plane dt (J); clear the sums."""
     pl.force[:] = 0.0
     pl.torque[:] = 0.0
     for s in range(pl_acc.shape[0]):
@@ -95,7 +96,9 @@ def plane_sums(dt, pl_acc, pl):
                 pl.force[p, d] -= pl_acc[s, p, d]
                 pl.torque[p, d] -= pl_acc[s, p, 3 + d]
                 pl.impulse[p, d] += pl_acc[s, p, d] * dt
+                pl.work[p] += pl_acc[s, p, d] * pl.velocity[p, d] * dt
             pl.heat[p] += pl_acc[s, p, 6] * dt
+            pl.friction_heat[p] += pl_acc[s, p, 7] * dt
     pl_acc[:] = 0.0
 
 
@@ -120,9 +123,12 @@ def p2_weight(j, la, lb, lc):
 def mesh_scatter(dt, wc, M):
     """Serial scatter of triangle contacts: wall force/torque (about the wall centre)
     and triangle forces ON the wall (this step), and the coupling accumulators
-    vertex_impulse += -F N_k dt, vertex_heat += -Q N_k dt, wall_impulse += F dt,
-    wall_heat += Q dt.  N_k are the barycentric weights w_k of the contact point,
-    or, for a triangle with a quadratic parent (``M.tri_p6[t, 0] >= 0``), the six P2
+    vertex_impulse += -F N_k dt, vertex_heat += (Q_f - Q) N_k dt,
+    wall_impulse += F dt, wall_heat += Q dt, wall_friction_heat += Q_f dt (Q_f the wall's
+    share of the frictional heat, :mod:`gsi.dem.contact.dissipation`: it reaches the FE
+    heat solve through the same nodal loads as conduction) and the wall's work on the
+    particles wall_work += F . v dt (v the wall's velocity at the contact point).  N_k are
+    the barycentric weights w_k of the contact point, or, for a triangle with a quadratic parent (``M.tri_p6[t, 0] >= 0``), the six P2
     basis values at the point's parent coordinates l = sum_k w_k tri_lam[t, k]."""
     M.wall_force[:] = 0.0
     M.wall_torque[:] = 0.0
@@ -135,6 +141,7 @@ def mesh_scatter(dt, wc, M):
             Fy = wc.force[i, s, 1]
             Fz = wc.force[i, s, 2]
             Q = wc.heat[i, s]
+            Qf = wc.fheat[i, s]
             M.wall_force[wl, 0] -= Fx
             M.wall_force[wl, 1] -= Fy
             M.wall_force[wl, 2] -= Fz
@@ -167,7 +174,18 @@ def mesh_scatter(dt, wc, M):
                 M.vertex_impulse[a, 0] -= Fx * wk * dt
                 M.vertex_impulse[a, 1] -= Fy * wk * dt
                 M.vertex_impulse[a, 2] -= Fz * wk * dt
-                M.vertex_heat[a] -= Q * wk * dt
+                M.vertex_heat[a] += (Qf - Q) * wk * dt
+            vx = 0.0
+            vy = 0.0
+            vz = 0.0
+            for j in range(3):
+                a = M.tri[t, j]
+                wk = wc.weight[i, s, j]
+                vx += wk * M.v[a, 0]
+                vy += wk * M.v[a, 1]
+                vz += wk * M.v[a, 2]
+            M.wall_work[wl] += (Fx * vx + Fy * vy + Fz * vz) * dt
+            M.wall_friction_heat[wl] += Qf * dt
             M.wall_impulse[wl, 0] += Fx * dt
             M.wall_impulse[wl, 1] += Fy * dt
             M.wall_impulse[wl, 2] += Fz * dt

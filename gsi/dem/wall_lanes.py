@@ -9,13 +9,16 @@ wall sums and the coupling (:mod:`gsi.dem.wall_kernels`).
 """
 import math
 
+import numpy as np
+
 from gsi.jit import njit, uint
 from gsi.dem.contact.lanes import (NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IEFF, WX, WY,
                                    WZ, A2, RI, RJ, DTEMP, HX, HY, HZ, FX, FY, FZ, MX, MY, MZ,
-                                   Q, AI)
+                                   Q, AI, QF)
 from gsi.dem.contact_geometry import wall_radius2, plane_distance
 from gsi.dem.mesh_dedup import select_triangle_contacts
-from gsi.dem.pair_lanes import evaluate_runs
+from gsi.dem.pair_lanes import evaluate_runs, dissipative_impulse
+from gsi.dem.contact.model import M_FRICTION
 
 #: lane kinds of the wall buffer
 PLANE, TRIANGLE = 0, 1
@@ -143,8 +146,11 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
     wall's share kept: the plane sums of slab ``sl`` in ``pl_acc[sl, p]`` (force, moment
     about the plane's point at the contact point, heat; see
     :func:`gsi.dem.wall_kernels.plane_sums`), the triangle slots in ``wc.force``,
-    ``wc.heat`` (see :func:`gsi.dem.wall_kernels.mesh_scatter`)."""
+    ``wc.heat`` (see :func:`gsi.dem.wall_kernels.mesh_scatter`).  With frictional
+    heating, half the dissipated power of a contact goes into the particle (``q``,
+    ``heat_friction``), half into the wall (``pl_acc[sl, p, 7]``, ``wc.fheat``)."""
     evaluate_runs(n, W, wrow, tab, dt, model)
+    fric_on = model[M_FRICTION] != 0
     for l in range(n):
         i = wi[l]
         nx = W[NX + l]
@@ -159,6 +165,11 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
         Qw = 0.0
         if heat_on:
             Qw = W[Q + l]
+        Qf = 0.0
+        if fric_on:
+            Qf = 0.5 * W[QF + l]
+            P.heat_friction[i] += Qf * dt
+            dissipative_impulse(W, l, np.int64(i), np.int64(-1), P, dt)
         if wkind[l] == PLANE:
             plh[k, 0] = W[HX + l]
             plh[k, 1] = W[HY + l]
@@ -175,6 +186,7 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
             pl_acc[sl, p, 4] += rz * fx - rx * fz
             pl_acc[sl, p, 5] += rx * fy - ry * fx
             pl_acc[sl, p, 6] += Qw
+            pl_acc[sl, p, 7] += Qf
         else:
             pairs.tri_hist[k, 0] = W[HX + l]
             pairs.tri_hist[k, 1] = W[HY + l]
@@ -185,6 +197,7 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
             wc.force[i, p, 1] = fy
             wc.force[i, p, 2] = fz
             wc.heat[i, p] = Qw
+            wc.fheat[i, p] = Qf
         P.force[i, 0] += fx
         P.force[i, 1] += fy
         P.force[i, 2] += fz
@@ -193,7 +206,7 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
         P.torque[i, 2] += lever * (nx * fy - ny * fx) + W[MZ + l]
         P.ncontact[i] += 1
         if heat_on:
-            P.q[i] += Qw
+            P.q[i] += Qw + Qf
 
 
 @njit(_nrt=False)

@@ -23,6 +23,13 @@ class Walls:
         self.mesh_walls = []
         self.plane_state = empty_planes()
         self.mesh_state = empty_mesh()
+        #: heat from walls into the particles (J) in accumulators reset since the start
+        #: (the energy book, :mod:`gsi.dem.energy`; not in checkpoints)
+        self.heat_reset = 0.0
+
+    def book_reset_heat(self, heat) -> None:
+        """Keep the heat (J) of a wall accumulator about to be reset for the energy book."""
+        self.heat_reset += float(heat)
 
     @property
     def n_planes(self) -> int:
@@ -72,7 +79,8 @@ class Walls:
                  np.append(M.wall_rigid, 0), np.vstack([M.wall_velocity, np.zeros(3)]),
                  np.vstack([M.wall_omega, np.zeros(3)]), np.vstack([M.wall_centre, np.zeros(3)]),
                  np.vstack([M.wall_force, np.zeros(3)]), np.vstack([M.wall_torque, np.zeros(3)]),
-                 np.vstack([M.wall_impulse, np.zeros(3)]), np.append(M.wall_heat, 0.0))
+                 np.vstack([M.wall_impulse, np.zeros(3)]), np.append(M.wall_heat, 0.0),
+                 np.append(M.wall_friction_heat, 0.0), np.append(M.wall_work, 0.0))
         walls = tuple(np.ascontiguousarray(a, b.dtype) for a, b in zip(walls, M[13:]))
         new = mesh_bundle(
             np.vstack([M.x, wall.vertices]), np.vstack([M.v, np.zeros((nv, 3))]),

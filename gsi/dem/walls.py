@@ -104,7 +104,18 @@ class PlaneWall:
         """Accumulated heat from the plane into the particles (J)."""
         return float(self._walls.plane_state.heat[self._p])
 
+    @property
+    def friction_heat(self):
+        """Frictional heat the plane took since the start (J; never reset)."""
+        return float(self._walls.plane_state.friction_heat[self._p])
+
+    @property
+    def work_on_particles(self):
+        """Work of the moving plane on the particles since the start (J; never reset)."""
+        return float(self._walls.plane_state.work[self._p])
+
     def reset_accumulators(self):
+        self._walls.book_reset_heat(self._walls.plane_state.heat[self._p])
         self._walls.plane_state.impulse[self._p] = 0.0
         self._walls.plane_state.heat[self._p] = 0.0
 
@@ -322,8 +333,20 @@ class MeshWall:
         """Accumulated heat from this wall into the particles (J)."""
         return float(self._walls.mesh_state.wall_heat[self._w])
 
+    @property
+    def friction_heat(self):
+        """Frictional heat the wall took since the start (J; never reset; its nodal share
+        is in :attr:`vertex_heat`)."""
+        return float(self._walls.mesh_state.wall_friction_heat[self._w])
+
+    @property
+    def work_on_particles(self):
+        """Work of the moving wall on the particles since the start (J; never reset)."""
+        return float(self._walls.mesh_state.wall_work[self._w])
+
     def reset_accumulators(self):
         s = self._walls
+        s.book_reset_heat(s.mesh_state.wall_heat[self._w])
         s.mesh_state.vertex_impulse[self._vs()] = 0.0
         s.mesh_state.vertex_heat[self._vs()] = 0.0
         s.mesh_state.wall_impulse[self._w] = 0.0

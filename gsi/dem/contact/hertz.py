@@ -11,7 +11,8 @@ docs/design.md, "DEM physics", for overlap delta > 0:
 import math
 
 from gsi.jit import njit, sqrt, uint
-from gsi.dem.contact.lanes import NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, FN, KT, GT
+from gsi.dem.contact.lanes import (NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, FN, KT, GT,
+                                   GN)
 from gsi.dem.materials import P_E, P_G, P_BETA, P_ST_SN
 
 SQRT_5_6 = math.sqrt(5.0 / 6.0)
@@ -33,5 +34,6 @@ def hertz(l0, l1, B, tab, row, dt):
         gamma_n = -2.0 * SQRT_5_6 * beta * sqrt(S_n * B[MEFF + l])
         v_n = B[VX + l] * B[NX + l] + B[VY + l] * B[NY + l] + B[VZ + l] * B[NZ + l]
         B[FN + l] = k_n * delta + gamma_n * v_n
+        B[GN + l] = gamma_n
         B[KT + l] = 8.0 * G_eff * sqrt_Rd
         B[GT + l] = gamma_n * st_sn

@@ -29,6 +29,12 @@ Outputs (written by the sub-models):
 - ``FX, FY, FZ``   total contact force on i (N)
 - ``MX, MY, MZ``   rolling-resistance torque on i (N m)
 - ``Q``            heat rate into i (W)
+- ``GN``           normal damping coefficient gamma_n (N s/m, >= 0) of the normal model
+- ``CT``           the tangential model's Coulomb factor: exactly 1 in stick, < 1 when
+  the spring was capped (sliding)
+- ``QF``           power dissipated in the contact (W; only with frictional heating,
+  :mod:`gsi.dem.contact.dissipation`)
+- ``FDX..FDZ``     the dissipative part of the force on i (N; frictional heating)
 
 The sphere-pair path also uses ``AI, AJ`` (lever arms), the raw inputs ``MI, MJ, II, IJ``,
 ``WIX..WJZ`` and the torques ``TIX..TJZ`` on i and j.
@@ -38,17 +44,18 @@ select that hides the address from LLVM's loop vectorizer.
 """
 from gsi.jit import uint
 
-#: lanes per batch: 72 lanes x 45 fields x 8 bytes = 26 kB stay in a 32 kB L1 cache
+#: lanes per batch: 72 lanes x 51 fields x 8 bytes = 29 kB stay in a 32 kB L1 cache
 #: (40, 72, 136 and 264 lanes timed the same in the batched engine of 2026-12-03)
 CH = 72
 
 _NAMES = ("NX NY NZ DELTA VX VY VZ REFF MEFF IEFF WX WY WZ A2 RI RJ DTEMP HX HY HZ "
           "FN KT GT FX FY FZ MX MY MZ Q "
-          "AI AJ MI MJ II IJ WIX WIY WIZ TIX TIY TIZ TJX TJY TJZ").split()
+          "AI AJ MI MJ II IJ WIX WIY WIZ TIX TIY TIZ TJX TJY TJZ GN CT QF FDX FDY FDZ").split()
 #: number of fields of the buffer (its size is NB * CH)
 NB = len(_NAMES)
 
 (NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IEFF, WX, WY, WZ, A2, RI, RJ, DTEMP, HX, HY, HZ,
  FN, KT, GT, FX, FY, FZ, MX, MY, MZ, Q,
- AI, AJ, MI, MJ, II, IJ, WIX, WIY, WIZ, TIX, TIY, TIZ, TJX, TJY, TJZ) = [
+ AI, AJ, MI, MJ, II, IJ, WIX, WIY, WIZ, TIX, TIY, TIZ, TJX, TJY, TJZ, GN, CT, QF, FDX, FDY,
+ FDZ) = [
     uint(f * CH) for f in range(NB)]

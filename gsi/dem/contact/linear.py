@@ -10,7 +10,7 @@ restitution e through beta = ln(e)/sqrt(ln(e)^2 + pi^2):
   periods of a sphere equal), gamma_t = -2 beta sqrt(k_t m*).
 """
 from gsi.jit import njit, sqrt, uint
-from gsi.dem.contact.lanes import NX, NY, NZ, DELTA, VX, VY, VZ, MEFF, FN, KT, GT
+from gsi.dem.contact.lanes import NX, NY, NZ, DELTA, VX, VY, VZ, MEFF, FN, KT, GT, GN
 from gsi.dem.materials import P_BETA, P_KN
 
 K_T_OVER_K_N = 2.0 / 7.0
@@ -26,6 +26,8 @@ def linear(l0, l1, B, tab, row, dt):
     for l in range(uint(l0), uint(l1)):
         m_eff = B[MEFF + l]
         v_n = B[VX + l] * B[NX + l] + B[VY + l] * B[NY + l] + B[VZ + l] * B[NZ + l]
-        B[FN + l] = k_n * B[DELTA + l] - 2.0 * beta * sqrt(k_n * m_eff) * v_n
+        gamma_n = -2.0 * beta * sqrt(k_n * m_eff)
+        B[FN + l] = k_n * B[DELTA + l] + gamma_n * v_n
+        B[GN + l] = gamma_n
         B[KT + l] = k_t
         B[GT + l] = -2.0 * beta * sqrt(k_t * m_eff)

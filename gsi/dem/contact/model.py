@@ -11,7 +11,9 @@ the sub-models in order over the lanes:
 2. **tangential**: the total force with friction -- ``history`` (spring with Coulomb cap);
 3. **rolling**: a torque -- ``none``, ``cdt`` (constant directional torque);
 4. **heat**: the conducted heat rate -- ``none``, ``area``, ``radius``, ``constant``,
-   ``pipe`` (:mod:`gsi.dem.contact.conductance`).
+   ``pipe`` (:mod:`gsi.dem.contact.conductance`);
+5. **dissipation** (frictional heating on): the power the contact dissipates
+   (:mod:`gsi.dem.contact.dissipation`).
 
 Each registry below maps a name to one compiled lane loop
 ``f(l0, l1, B, tab, row, dt)``; a new sub-model is one function in its own file and one
@@ -29,6 +31,7 @@ from gsi.jit import njit
 from gsi.errors import GsiInputError
 from gsi.dem.contact import conductance as heat
 from gsi.dem.contact import hertz, linear, tangential, rolling
+from gsi.dem.contact.dissipation import dissipation
 
 #: normal sub-models (elastic + damping): FN, KT, GT
 NORMAL = {"hertz": hertz.hertz, "linear": linear.linear}
@@ -49,12 +52,14 @@ _ROLLING = tuple(ROLLING.values())
 _HEAT = tuple(HEAT.values())
 
 #: entries of the model array (:func:`model_ids`)
-M_NORMAL, M_TANGENTIAL, M_ROLLING, M_HEAT, M_LOG = range(5)
+M_NORMAL, M_TANGENTIAL, M_ROLLING, M_HEAT, M_LOG, M_FRICTION = range(6)
 
 
-def model_ids(normal="hertz", tangential="history", rolling="none", heat="none", log=False):
-    """The model array the engine takes: the index of each sub-model in its registry, and
-    the contact-log switch.  ``rolling`` also takes True/False (cdt/none), ``heat`` None."""
+def model_ids(normal="hertz", tangential="history", rolling="none", heat="none", log=False,
+              friction=False):
+    """The model array the engine takes: the index of each sub-model in its registry, the
+    contact-log switch and the frictional-heating switch.  ``rolling`` also takes
+    True/False (cdt/none), ``heat`` None."""
     rolling = {True: "cdt", False: "none", None: "none"}.get(rolling, rolling)
     heat_name = "none" if heat is None else heat
     ids = []
@@ -63,7 +68,7 @@ def model_ids(normal="hertz", tangential="history", rolling="none", heat="none",
         if name not in reg:
             raise GsiInputError(f"{key} = {name!r}: must be one of {sorted(reg)}")
         ids.append(list(reg).index(name))
-    return np.array(ids + [int(bool(log))], np.int64)
+    return np.array(ids + [int(bool(log)), int(bool(friction))], np.int64)
 
 
 # One function per stage, each unrolling its registry (a global tuple: passed as an
@@ -120,6 +125,8 @@ def evaluate(l0, l1, B, tab, row, dt, model):
         rolling_stage(model[M_ROLLING], l0, l1, B, tab, row, dt)
     if model[M_HEAT] != 0:
         heat_stage(model[M_HEAT], l0, l1, B, tab, row, dt)
+    if model[M_FRICTION] != 0:
+        dissipation(l0, l1, B, tab, row, dt)
 
 
 @njit(_nrt=False)

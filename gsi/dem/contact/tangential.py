@@ -3,12 +3,13 @@
 docs/design.md, "DEM physics": the spring xi (m) of a contact is rotated into the current
 tangent plane (its normal part removed, its length kept), then xi += v_t dt; the force is
 F_t = -k_t xi - gamma_t v_t, capped at mu |F_n|; on the cap xi = -F_t / k_t, so that the
-spring alone gives the capped force.  k_t and gamma_t come from the normal model
+spring alone gives the capped force (the factor of the cap, exactly 1 in stick, goes to
+``CT`` for :mod:`gsi.dem.contact.dissipation`).  k_t and gamma_t come from the normal model
 (fields ``KT``, ``GT``); the total force F = -F_n n + F_t is written to ``FX..FZ``.
 """
 from gsi.jit import njit, sqrt, uint
 from gsi.dem.contact.lanes import (NX, NY, NZ, VX, VY, VZ, HX, HY, HZ, FN, KT, GT, FX, FY,
-                                   FZ)
+                                   FZ, CT)
 from gsi.dem.materials import P_MU
 
 
@@ -59,6 +60,7 @@ def history(l0, l1, B, tab, row, dt):
             xx = -ftx / k_t
             xy = -fty / k_t
             xz = -ftz / k_t
+        B[CT + l] = c
         B[HX + l] = xx
         B[HY + l] = xy
         B[HZ + l] = xz

@@ -92,7 +92,7 @@ def test_sub_models_by_name():
     """Names select registry entries; rolling and heat switch off to zero torque and heat."""
     ids = model_ids("linear", "history", True, None, log=True)
     assert list(ids) == [list(NORMAL).index("linear"), 0, list(ROLLING).index("cdt"),
-                         list(HEAT).index("none"), 1]
+                         list(HEAT).index("none"), 1, 0]
     rng = np.random.default_rng(1)
     B = _buffer(10, rng)
     evaluate(0, 10, B, pair_table([MAT]).reshape(1, -1), 0, 1e-6, model_ids("hertz"))
