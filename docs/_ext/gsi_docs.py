@@ -39,6 +39,7 @@ DEMOS = [
     ("belt_hopper", "Funnel onto a belt from a user .geo file"),
     ("two_structures", "Two structures on one DEM"),
     ("thermal_silo_radiation", "Thermal silo with radiation"),
+    ("thermal_silo_friction", "Thermal silo with frictional heating"),
     ("plate_on_block", "Plate on a block: FE-FE contact heat"),
 ]
 

@@ -88,6 +88,8 @@ def summary(r: RunResult, extrap: dict | None = None,
             continue
         last = ", ".join(f"{c} {rec[c][-1]:.5g}" for c in rec if c != "time_s")
         lines.append(f"  monitor {name}: {last}")
+        if "drift_rel" in rec:        # an energy monitor: its drift is a key number
+            keys[f"{name}.drift_rel"] = float(f"{rec['drift_rel'][-1]:.4e}")
     for name, s in r.structures.items():
         lines.append(f"  structure {name}: " + ", ".join(
             f"{k} {v:.5g}" if isinstance(v, float) else f"{k} {v}" for k, v in s.items()))

@@ -151,3 +151,24 @@ def test_the_other_shipped_cases_run_quick_and_carry_their_bed(name, tmp_path):
     assert res.n_lost == 0 and res.n_particles > 0
     g = np.linalg.norm(res.weight)
     assert float(res.wall_load @ res.weight / g ** 2) == pytest.approx(1.0, abs=0.02)
+
+
+def test_thermal_silo_with_frictional_heating_books_the_friction(tmp_path):
+    """demos/thermal_silo_friction.toml, its first 0.04 s (the bed poured; it reaches the wall at 0.02 s):
+    the wall's half of the frictional heat reaches the FE through the nodal loads
+    (balance_error = Q_structure - Q_particles - Q_friction stays at round-off: an
+    invariant of the transfer), friction made heat in the contacts, and the energy
+    monitor is written."""
+    import tomllib
+    from gsi.case import case_from_table
+    t = tomllib.loads((DEMOS / "thermal_silo_friction.toml").read_text())
+    t["quick"]["run"]["duration"] = 0.04
+    t["quick"].setdefault("output", {})["interval"] = 0.02
+    run_case(case_from_table(t, base_dir=DEMOS), out=tmp_path, quick=True, pictures=False,
+             verbose=False)
+    h = np.genfromtxt(tmp_path / "bin_energy.csv", delimiter=",", names=True)
+    e = np.genfromtxt(tmp_path / "monitors" / "energy.csv", delimiter=",", names=True)
+    assert h["Q_friction"].sum() > 0.0
+    scale = np.abs(h["Q_structure"]).max()
+    assert np.abs(h["balance_error"]).max() <= 1e-9 * scale
+    assert e["heat_generated_J"][-1] >= h["Q_friction"].sum() > 0.0
