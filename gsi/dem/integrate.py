@@ -148,6 +148,19 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
     f = P.force
     tq = P.torque
     x0 = P.x0
+    if fric_on:      # its own loop: the loop below stays as it is without friction
+        for m in range(m0, m1):
+            i = slab_list[m]
+            a = half_dt / P.mass[i]
+            b = half_dt / P.inertia[i]
+            corr = 0.0
+            for d in range(3):
+                corr -= P.fd[i, d] * (a * f[i, d]) + P.td[i, d] * (b * tq[i, d])
+                P.fd[i, d] = 0.0
+                P.td[i, d] = 0.0
+            if P.fixed[i] == 0:
+                P.T[i] += corr * P.mcp_inv[i]
+                P.heat_friction[i] += corr
     for m in range(m0, m1):
         i = slab_list[m]
         free = P.fixed[i] == 0
@@ -163,15 +176,6 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
         w2 = w[i, 2] + b * tq[i, 2]
         if heat_on:
             P.T[i] += dt * P.q[i] * P.mcp_inv[i]
-        if fric_on:
-            corr = 0.0
-            for d in range(3):
-                corr -= P.fd[i, d] * (a * f[i, d]) + P.td[i, d] * (b * tq[i, d])
-                P.fd[i, d] = 0.0
-                P.td[i, d] = 0.0
-            if free:
-                P.T[i] += corr * P.mcp_inv[i]
-                P.heat_friction[i] += corr
         if mode == 2:
             v0 = v0 + a * f[i, 0]
             v1 = v1 + a * f[i, 1]

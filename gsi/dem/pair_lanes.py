@@ -285,13 +285,6 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
                 Qp = B[Q + l]
                 qi += Qp
                 P.q[j] -= Qp
-            if fric_on:
-                h = 0.5 * B[QF + l]
-                qi += h
-                P.q[j] += h
-                P.heat_friction[i] += h * dt
-                P.heat_friction[j] += h * dt
-                dissipative_impulse(B, l, np.int64(i), np.int64(j), P, dt)
         P.ncontact[i] += np.int32(blane[b + 1] - blane[b])
         f[i, 0] += fx
         f[i, 1] += fy
@@ -301,3 +294,14 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
         tq[i, 2] += tz
         if heat_on:
             P.q[i] += qi
+    if fric_on:      # its own loop: the loop above stays as it is without friction
+        for b in range(nrow):
+            i = brow[b]
+            for l in range(blane[b], blane[b + 1]):
+                j = lj[l]
+                h = 0.5 * B[QF + l]
+                P.q[i] += h
+                P.q[j] += h
+                P.heat_friction[i] += h * dt
+                P.heat_friction[j] += h * dt
+                dissipative_impulse(B, l, np.int64(i), np.int64(j), P, dt)

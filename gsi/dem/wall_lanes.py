@@ -165,11 +165,6 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
         Qw = 0.0
         if heat_on:
             Qw = W[Q + l]
-        Qf = 0.0
-        if fric_on:
-            Qf = 0.5 * W[QF + l]
-            P.heat_friction[i] += Qf * dt
-            dissipative_impulse(W, l, np.int64(i), np.int64(-1), P, dt)
         if wkind[l] == PLANE:
             plh[k, 0] = W[HX + l]
             plh[k, 1] = W[HY + l]
@@ -186,7 +181,6 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
             pl_acc[sl, p, 4] += rz * fx - rx * fz
             pl_acc[sl, p, 5] += rx * fy - ry * fx
             pl_acc[sl, p, 6] += Qw
-            pl_acc[sl, p, 7] += Qf
         else:
             pairs.tri_hist[k, 0] = W[HX + l]
             pairs.tri_hist[k, 1] = W[HY + l]
@@ -197,7 +191,6 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
             wc.force[i, p, 1] = fy
             wc.force[i, p, 2] = fz
             wc.heat[i, p] = Qw
-            wc.fheat[i, p] = Qf
         P.force[i, 0] += fx
         P.force[i, 1] += fy
         P.force[i, 2] += fz
@@ -206,7 +199,18 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
         P.torque[i, 2] += lever * (nx * fy - ny * fx) + W[MZ + l]
         P.ncontact[i] += 1
         if heat_on:
-            P.q[i] += Qw + Qf
+            P.q[i] += Qw
+    if fric_on:      # its own loop: the loop above stays as it is without friction
+        for l in range(n):
+            i = wi[l]
+            Qf = 0.5 * W[QF + l]
+            P.q[i] += Qf
+            P.heat_friction[i] += Qf * dt
+            dissipative_impulse(W, l, np.int64(i), np.int64(-1), P, dt)
+            if wkind[l] == PLANE:
+                pl_acc[sl, wp[l], 7] += Qf
+            else:
+                wc.fheat[i, wp[l]] = Qf
 
 
 @njit(_nrt=False)
