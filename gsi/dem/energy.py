@@ -40,8 +40,7 @@ import math
 import numpy as np
 
 from gsi.jit import njit
-from gsi.dem.contact.model import M_NORMAL, NORMAL
-from gsi.dem.contact.linear import K_T_OVER_K_N
+from gsi.dem.contact.model import K_T_OVER_K_N, M_NORMAL, NORMAL
 from gsi.dem.materials import P_E, P_G, P_KN
 
 _HERTZ = list(NORMAL).index("hertz")

@@ -16,6 +16,8 @@ must stay constant.
   delta) changes under a stored spring; linear, with tension: a contact ends with a
   loaded spring whose energy vanishes).  The 1e-3 target is not met there; the test
   states it (strict xfail) instead of loosening it (docs/design.md, "Energy audit").
+  Measured (2026-12-04): 64 spheres, dt = 1e-5 s: linear 4.5e-2, Hertz 2.1e-2; the
+  @slow study of 2197 spheres (Hertz, dt = 2e-5 s, shaken 1 s, settled 1 s): 7.4e-3.
 """
 import math
 
@@ -79,8 +81,9 @@ def test_frictionless_box_drift_is_time_integration_error(contact, factors,
     assert drift[-1] < 0.5 * drift[0]
 
 
-@pytest.mark.xfail(strict=True, reason="incremental tangential spring: the book misses "
-                   "the spring energy k_t changes or a contact's end takes (a few %)")
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="incremental tangential spring: the book misses the spring energy "
+                          "k_t changes or a contact's end takes (a few %)")
 @pytest.mark.parametrize("contact", ["linear", "hertz"])
 def test_box_with_friction_drift_below_1e_3(contact, record_validation):
     p = shaken_box(contact=contact, mu=0.5, dt_factor=0.5)
@@ -93,7 +96,8 @@ def test_box_with_friction_drift_below_1e_3(contact, record_validation):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="as test_box_with_friction_drift_below_1e_3")
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="as test_box_with_friction_drift_below_1e_3")
 def test_2197_spheres_shaken_1s_drift_below_1e_3(record_validation):
     p = shaken_box(contact="hertz", mu=0.5, dt_factor=1.0, n_side=13, t_shake=1.0,
                    t_settle=1.0)

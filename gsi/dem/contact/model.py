@@ -46,6 +46,9 @@ HEAT = {"none": heat.none_lanes, "area": heat.area_lanes, "radius": heat.radius_
 # "none" is entry 0 of ROLLING and HEAT: evaluate() skips it (a buffer starts with zeros)
 assert list(ROLLING)[0] == "none" and list(HEAT)[0] == "none"
 
+#: k_t/k_n of the linear law (the tangential spring energy of :mod:`gsi.dem.energy`)
+K_T_OVER_K_N = linear.K_T_OVER_K_N
+
 _NORMAL = tuple(NORMAL.values())
 _TANGENTIAL = tuple(TANGENTIAL.values())
 _ROLLING = tuple(ROLLING.values())
