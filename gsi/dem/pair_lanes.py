@@ -14,7 +14,7 @@ from gsi.dem.contact.lanes import (
     NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IEFF, WX, WY, WZ, A2, RI, RJ, DTEMP,
     HX, HY, HZ, FX, FY, FZ, MX, MY, MZ, Q, AI, AJ, MI, MJ, II, IJ, WIX, WIY, WIZ, TIX, TIY,
     TIZ, TJX, TJY, TJZ, QF, FDX, FDY, FDZ)
-from gsi.dem.contact.model import evaluate, M_ROLLING, M_FRICTION
+from gsi.dem.contact.model import evaluate, evaluate_dissipation, M_ROLLING, M_FRICTION
 from gsi.dem.contact_geometry import spheres_touch
 
 
@@ -245,6 +245,7 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
     if heat_on:
         pair_contact_radius(n, B)
     evaluate_runs(n, B, lrow, tab, dt, model)
+    evaluate_dissipation(n, B, dt, model)
     pair_torques(n, B)
     f = P.force
     tq = P.torque

@@ -18,7 +18,7 @@ from gsi.dem.contact.lanes import (NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IE
 from gsi.dem.contact_geometry import wall_radius2, plane_distance
 from gsi.dem.mesh_dedup import select_triangle_contacts
 from gsi.dem.pair_lanes import evaluate_runs, dissipative_impulse
-from gsi.dem.contact.model import M_FRICTION
+from gsi.dem.contact.model import M_FRICTION, evaluate_dissipation
 
 #: lane kinds of the wall buffer
 PLANE, TRIANGLE = 0, 1
@@ -150,6 +150,7 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
     heating, half the dissipated power of a contact goes into the particle (``q``,
     ``heat_friction``), half into the wall (``pl_acc[sl, p, 7]``, ``wc.fheat``)."""
     evaluate_runs(n, W, wrow, tab, dt, model)
+    evaluate_dissipation(n, W, dt, model)
     fric_on = model[M_FRICTION] != 0
     for l in range(n):
         i = wi[l]

@@ -1,6 +1,6 @@
 """Frictional heating: the power a contact dissipates (docs/design.md, "Frictional heating").
 
-With ``dem.frictional_heating`` on, the contact model runs this sub-model last; it reads
+With ``dem.frictional_heating`` on, the engine runs this after the contact model; it reads
 what the normal, tangential and rolling sub-models left in the lanes
 (:mod:`gsi.dem.contact.lanes`) and writes the dissipated power ``QF`` (W, >= 0):
 
@@ -32,7 +32,7 @@ from gsi.dem.contact.lanes import (NX, NY, NZ, VX, VY, VZ, WX, WY, WZ, HX, HY, H
 
 
 @njit(_nrt=False)
-def dissipation(l0, l1, B, tab, row, dt):
+def dissipation(l0, l1, B, dt):
     """The dissipated power ``QF`` (W) of lanes l0..l1-1 (module docstring; 0 for the
     sliding part when dt = 0, a force evaluation without a step) and the dissipative
     force on i, ``FDX..FDZ``: -gamma_n v_n n, plus -gamma_t v_t in stick or the whole

@@ -12,7 +12,8 @@ the sub-models in order over the lanes:
 3. **rolling**: a torque -- ``none``, ``cdt`` (constant directional torque);
 4. **heat**: the conducted heat rate -- ``none``, ``area``, ``radius``, ``constant``,
    ``pipe`` (:mod:`gsi.dem.contact.conductance`);
-5. **dissipation** (frictional heating on): the power the contact dissipates
+5. **dissipation** (frictional heating on, :func:`evaluate_dissipation`, called by the
+   engine after :func:`evaluate`): the power the contact dissipates
    (:mod:`gsi.dem.contact.dissipation`).
 
 Each registry below maps a name to one compiled lane loop
@@ -27,7 +28,7 @@ its own stiffness.
 import numpy as np
 from numba import literal_unroll
 
-from gsi.jit import njit
+from gsi.jit import njit, uint
 from gsi.errors import GsiInputError
 from gsi.dem.contact import conductance as heat
 from gsi.dem.contact import hertz, linear, tangential, rolling
@@ -128,8 +129,16 @@ def evaluate(l0, l1, B, tab, row, dt, model):
         rolling_stage(model[M_ROLLING], l0, l1, B, tab, row, dt)
     if model[M_HEAT] != 0:
         heat_stage(model[M_HEAT], l0, l1, B, tab, row, dt)
+
+
+@njit(_nrt=False)
+def evaluate_dissipation(n, B, dt, model):
+    """Frictional heating (model switch ``M_FRICTION``): the dissipated power of lanes
+    0..n-1 after :func:`evaluate` (:mod:`gsi.dem.contact.dissipation`; it reads only the
+    lanes, so one call serves a whole batch; outside :func:`evaluate`, whose compiled
+    code then stays as it is without friction)."""
     if model[M_FRICTION] != 0:
-        dissipation(l0, l1, B, tab, row, dt)
+        dissipation(uint(0), uint(n), B, dt)
 
 
 @njit(_nrt=False)
