@@ -100,9 +100,9 @@ class _Axial:
 
     def __init__(self, walls, *, direction=None, axis=None, centre=None, what="wall driver"):
         self.walls = list(walls) if isinstance(walls, (list, tuple)) else [walls]
-        if (direction is None) == (axis is None):
-            raise GsiInputError(f"{what}: give exactly one of direction (translation) or "
-                                "axis (rotation)")
+        if direction is not None and axis is not None:
+            raise GsiInputError(f"{what}.axis: give one of direction (translation) or axis "
+                                "(rotation), not both")
         self.rotates = axis is not None
         if self.rotates:
             if any(isinstance(w, PlaneWall) for w in self.walls):
@@ -116,6 +116,9 @@ class _Axial:
                 w.set_motion(centre=vec3(centre, f"{what}.centre"))
         else:
             if direction is None:
+                if not isinstance(self.walls[0], PlaneWall):
+                    raise GsiInputError(f"{what}.direction: missing; a mesh wall needs the "
+                                        "direction (or axis) it moves along")
                 direction = self.walls[0].normal
             self.d = _unit(direction, f"{what}.direction")
         self.ref = self._place()
