@@ -276,7 +276,8 @@ class Case:
         for i, m in enumerate(self.monitors):
             m.check(f"monitors[{i}]", walls=set(self.wall_names()),
                     structures=set(self.structure_names()), groups=set(self.group_names()),
-                    thermal=self.thermal or self.dem.radiation)
+                    thermal=self.thermal or self.dem.radiation,
+                    driven={w.name for w in self.walls if w.motion.driven})
         if self.quick:
             q = self.quick_variant()
             if q.run.duration > self.run.duration:

@@ -24,7 +24,9 @@ Every wall has a ``material``, a ``temperature`` (None = adiabatic) and a
 :class:`Motion`: ``fixed``, ``translation`` (``velocity``), ``rotation`` about ``axis``
 through ``centre`` at ``rpm`` or ``omega`` (rad/s; exactly one), or a ``schedule`` of
 :class:`MotionEvent` s, each holding from its ``t`` until the next (before the first
-event the wall is fixed).  Rotating shapes with an axis (cone, funnel, cylinder, drum)
+event the wall is fixed); or a motion the DEM drives step by step: ``oscillation``,
+``servo`` (holds a stress or force) or ``free`` (moved by the particles), see
+:mod:`gsi.case.driven_motion`.  Rotating shapes with an axis (cone, funnel, cylinder, drum)
 default the rotation's axis and centre to their own.  A plane cannot rotate.
 
 The torque a mesh wall reports is about its reference point: the rotation centre, else
@@ -206,7 +208,8 @@ class Wall:
             if by_edges and np.linalg.norm(np.cross(self.edge_u, self.edge_v)) == 0:
                 raise GsiInputError(f"{p}edge_v = {list(self.edge_v)}: must be nonzero and not "
                                     f"parallel to edge_u = {list(self.edge_u)} (m)")
-        self.motion.validate(f"{p}motion", has_axis=self.kind in _AXIAL)
+        self.motion.validate(f"{p}motion", has_axis=self.kind in _AXIAL, planes=self._planes,
+                             box=self.kind == "box" and self.as_planes)
         if self.motion.rotates and self._planes:
             what = "a plane" if self.kind == "plane" else "a box of planes"
             fix = ("use kind = 'plate' (a mesh)" if self.kind == "plane"
@@ -332,11 +335,17 @@ class Wall:
             w.set_motion(centre=self.reference_point(base_dir=base_dir))
             handles = [w]
         self.apply_motion(handles, sim.time)
+        if self.motion.driven:                # oscillation, servo, free: a driver per step
+            from gsi.case.driven_motion import make_driver
+            make_driver(self.motion, handles, sim)
         return handles
 
     def apply_motion(self, handles, t: float) -> None:
         """Set the velocity, angular velocity and rotation centre of ``handles`` (from
-        :meth:`add_to`) to the motion's state at time ``t`` (s)."""
+        :meth:`add_to`) to the motion's state at time ``t`` (s); a driven motion's
+        driver sets them before every step instead."""
+        if self.motion.driven:
+            return
         axis = self._axis() if self.kind in _AXIAL else None
         centre = self.centre if self.kind in _AXIAL else None
         v, omega, c = self.motion.state_at(t, axis=axis, centre=centre)
@@ -359,7 +368,8 @@ class Wall:
         """
         self.validate(path)
         p = _prefix(path)
-        self.motion.check(f"{p}motion", duration=duration, has_axis=self.kind in _AXIAL)
+        self.motion.check(f"{p}motion", duration=duration, has_axis=self.kind in _AXIAL,
+                          planes=self._planes, box=self.kind == "box" and self.as_planes)
         dlo, dhi = np.asarray(domain_lo, float), np.asarray(domain_hi, float)
         size = float(np.max(dhi - dlo))
         if self.kind == "plane":

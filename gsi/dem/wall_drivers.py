@@ -237,9 +237,11 @@ class Servo(_Axial):
         d, from the wall into the particles (default: the plane's normal; needed for a
         mesh wall).
     area : float, optional
-        A (m^2): the target is a stress (Pa) over it; also the area of the stiffness
-        estimate.  Default: the target is a force, the estimate uses the mesh wall's
-        area projected on d (a plane needs ``area``).
+        A (m^2): the area of the stiffness estimate, and of the stress.  Default: the
+        mesh wall's area projected on d (a plane needs ``area``).
+    stress : bool, optional
+        Whether ``target`` is a stress (Pa) over ``area`` (default: when ``area`` is
+        given) or a force (N).
     gain : float, optional
         G (m/(s N)); default 0.5/(K dt) (:func:`wall_stiffness`), refused above 1/(K dt).
     peak : float, optional
@@ -248,9 +250,9 @@ class Servo(_Axial):
     """
 
     def __init__(self, wall, *, target, max_speed, direction=None, area=None, gain=None,
-                 peak=None):
+                 peak=None, stress=None):
         super().__init__(wall, direction=direction, what="servo")
-        self.stress = area is not None
+        self.stress = area is not None if stress is None else bool(stress)
         if not callable(target):
             value = float(target)
             target = (lambda t: value)

@@ -1,0 +1,74 @@
+"""The cases with walls that respond (demos/servo_lid.toml, free_piston.toml,
+vibrated_bed.toml, grate.toml) run in their quick form, each checked against statics or
+the prescribed motion."""
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+from gsi.case import load_case
+from gsi.run import run_case
+
+DEMOS = pathlib.Path(__file__).resolve().parents[2] / "demos"
+
+
+def _run(name, tmp_path):
+    return run_case(load_case(DEMOS / f"{name}.toml"), out=tmp_path, quick=True,
+                    pictures=False, verbose=False)
+
+
+def _last_third(mon, duration):
+    return mon["time_s"] >= 2.0 * duration / 3.0
+
+
+def test_servo_lid_quick(tmp_path, record_validation):
+    """The lid holds 600 Pa over the box section; the floor carries the lid force plus
+    the bed's weight (frictionless sides carry no vertical load)."""
+    case = load_case(DEMOS / "servo_lid.toml")
+    res = _run("servo_lid", tmp_path)
+    lid, box = res.monitors["lid"], res.monitors["box"]
+    late = _last_third(lid, case.quick_variant().run.duration)
+    W = np.linalg.norm(res.weight)
+    target = 600.0 * 9.0e-4
+    lid_force = -lid["load"][late].mean()
+    floor = -box["Fz_N"][late].mean()
+    assert lid["target_N"][late] == pytest.approx(target)
+    record_validation("servo lid demo (150 beads): mean lid stress over the last third = "
+                      "target", reference=600.0, measured=lid_force / 9.0e-4, tolerance=1e-2,
+                      unit="Pa", source="the controller's set point")
+    record_validation("servo lid demo: floor force = lid force + bed weight",
+                      reference=lid_force + W, measured=floor, tolerance=1e-2, unit="N",
+                      source="statics of the bed, frictionless side walls")
+    assert lid_force == pytest.approx(target, rel=1e-2)
+    assert floor == pytest.approx(lid_force + W, rel=1e-2)
+
+
+def test_free_piston_quick(tmp_path, record_validation):
+    """A 20 g piston comes to rest on the bed: the floor carries (M + m_bed) g."""
+    case = load_case(DEMOS / "free_piston.toml")
+    res = _run("free_piston", tmp_path)
+    lid, box = res.monitors["lid"], res.monitors["box"]
+    late = _last_third(lid, case.quick_variant().run.duration)
+    W = np.linalg.norm(res.weight)
+    Mg = 0.02 * 9.81
+    floor = -box["Fz_N"][late].mean()
+    record_validation("free piston demo: floor force = (M + m_bed) g", reference=Mg + W,
+                      measured=floor, tolerance=5e-3, unit="N", source="statics")
+    assert floor == pytest.approx(Mg + W, rel=5e-3)
+    assert -lid["load"][late].mean() == pytest.approx(Mg, rel=5e-3)   # the bed holds it up
+
+
+def test_vibrated_bed_quick(tmp_path):
+    """The box moves exactly as prescribed; at Gamma = 2.5 the bed flies each cycle (the
+    floor carries nothing for a while) and lands hard (several weights)."""
+    res = _run("vibrated_bed", tmp_path)
+    sh = res.monitors["shaker"]
+    A, f = 0.000994, 25.0
+    np.testing.assert_allclose(sh["position"], A * np.sin(2 * math.pi * f * sh["time_s"]),
+                               rtol=0, atol=1e-9)
+    W = np.linalg.norm(res.weight)
+    late = sh["time_s"] >= 0.1
+    assert sh["load"][late].max() > -0.05 * W      # in flight: the floor carries < 5 %
+    assert sh["load"][late].min() < -3.0 * W       # landing
+    assert res.n_lost == 0

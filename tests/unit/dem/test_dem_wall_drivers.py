@@ -1,0 +1,79 @@
+"""Walls that respond (gsi.dem.wall_drivers) and their case keys (gsi.case.driven_motion):
+the servo's schedule and gain rule, the builders, and the one-line errors."""
+import math
+
+import numpy as np
+import pytest
+
+from gsi.case.driven_motion import SchedulePoint
+from gsi.case.walls import Motion, Wall
+from gsi.dem import Material, Simulation
+from gsi.dem.wall_drivers import FreeWall, Oscillation, Servo, projected_area, wall_stiffness
+from gsi.errors import GsiInputError
+
+MAT = Material(E=5e6, nu=0.3, rho=2500, e=0.5, mu=0.5)
+
+
+def _sim():
+    return Simulation({"m": MAT}, gravity=(0, 0, -9.81), dt=2e-5, skin=2e-4,
+                      domain=((-0.02, -0.02, -0.01), (0.02, 0.02, 0.03)))
+
+
+def test_servo_schedule_from_the_case_is_piecewise_linear():
+    sim = _sim()
+    w = Wall(kind="plane", material="m", point=(0, 0, 0.02), normal=(0, 0, -1),
+             motion=Motion(kind="servo", stress_schedule=[SchedulePoint(t=0.0, value=0.0),
+                                                          SchedulePoint(t=0.1, value=400.0)],
+                           area=4e-4, max_speed=0.1))
+    w.add_to(sim)
+    d = sim.drivers.items[0]
+    assert isinstance(d, Servo) and d.stress
+    assert d.target_force(0.05) == pytest.approx(200.0 * 4e-4)
+    assert d.target_force(1.0) == pytest.approx(400.0 * 4e-4)       # held after the end
+    assert d.peak_force == pytest.approx(400.0 * 4e-4)
+
+
+def test_servo_gain_rule_and_refusal():
+    sim = _sim()
+    lid = sim.add_plane((0, 0, 0.01), (0, 0, -1), material="m")
+    sim.add_particles([[0, 0, 0.0]], 1e-3, material="m")
+    K = wall_stiffness(sim, lid, 1.0, 4e-4)
+    # N_c = A/(2 sqrt(3) r^2) contacts, Hertz k = (6 E*^2 r f)^(1/3) at f = F/N_c
+    n_c = 4e-4 / (2 * math.sqrt(3) * 1e-6)
+    E_eff = 1 / ((1 - MAT.nu ** 2) / MAT.E * 2)
+    assert K == pytest.approx(n_c * (6 * E_eff ** 2 * 1e-3 * 1.0 / n_c) ** (1 / 3), rel=1e-12)
+    s = Servo(lid, target=1.0, area=4e-4, stress=False, max_speed=0.1)
+    assert s.set_gain(sim) * K * sim.dt == pytest.approx(0.5)
+    bad = Servo(lid, target=1.0, area=4e-4, stress=False, max_speed=0.1, gain=2.0 / (K * sim.dt))
+    with pytest.raises(GsiInputError, match=r"servo.gain = .*above the stability limit"):
+        bad.set_gain(sim)
+
+
+def test_projected_area_of_a_tilted_plate():
+    sim = _sim()
+    c, s = math.cos(0.3), math.sin(0.3)
+    w = sim.add_mesh_wall([[-0.01, -0.01, 0], [0.01, -0.01, 0], [0.01, 0.01, 0.02 * s / c],
+                           [-0.01, 0.01, 0.02 * s / c]], [[0, 1, 2], [0, 2, 3]], material="m")
+    assert projected_area(w, np.array([0.0, 0.0, 1.0])) == pytest.approx(4e-4, rel=1e-12)
+
+
+@pytest.mark.parametrize("kwargs, key", [
+    (dict(amplitude=0.0, frequency=10.0), "amplitude"),
+    (dict(amplitude=1e-3, frequency=10.0, axis=(0, 0, 1), centre=(0, 0, 0)), "axis"),
+    (dict(amplitude=1e-3, frequency=10.0, direction=(0, 0, 0)), "direction"),
+])
+def test_oscillation_errors_name_the_key(kwargs, key):
+    sim = _sim()
+    plane = sim.add_plane((0, 0, 0), (0, 0, 1), material="m")
+    with pytest.raises(GsiInputError, match=key):
+        Oscillation(plane, **kwargs)
+
+
+def test_free_wall_errors_and_oscillation_start():
+    sim = _sim()
+    plane = sim.add_plane((0, 0, 0), (0, 0, 1), material="m")
+    with pytest.raises(GsiInputError, match="free wall.mass"):
+        FreeWall(plane, gravity=sim.g)
+    osc = Oscillation(plane, amplitude=1e-3, frequency=10.0, phase=0.7)
+    assert osc.s(0.0) == 0.0                      # starts where it was built
+    assert osc.gamma(sim.g) == pytest.approx(1e-3 * (20 * math.pi) ** 2 / 9.81)
