@@ -4,14 +4,17 @@
 ``oscillation``  ``amplitude`` (m, or rad with ``axis``), ``frequency`` (Hz), ``phase``
                  (rad, default 0), and ``direction`` (default: a plane's normal) or
                  ``axis`` + ``centre`` (a mesh wall's rotation):
-                 s(t) = amplitude [sin(2 pi frequency t + phase) - sin(phase)].
+                 s(t) = amplitude [sin(2 pi frequency t + phase) - sin(phase)];
+                 ``update_every`` k (default 1): the velocity is the secant over k steps,
+                 the wall exactly on s(t) every k steps and on the chord between.
 ``servo``        exactly one of ``stress`` (Pa, over ``area``), ``force`` (N),
                  ``stress_schedule`` or ``force_schedule`` (a list of ``{t, value}``,
                  piecewise linear, constant beyond its ends); ``max_speed`` (m/s);
                  ``direction`` from the wall into the particles (default: a plane's
                  normal); ``area`` (m^2; a plane needs it, a mesh wall defaults to its area
                  projected on the direction); ``gain`` (m/(s N), default 0.5/(K dt) from the
-                 stability rule of :class:`gsi.dem.wall_drivers.Servo`).
+                 stability rule of :class:`gsi.dem.wall_drivers.Servo`); ``update_every``
+                 k (default 1): steps between updates (the rule then holds G K k dt <= 1).
 ``free``         ``mass`` (kg) along ``direction``, or ``inertia`` (kg m^2) about ``axis``
                  through ``centre`` (a hinge; ``mass`` then weighs at ``centre_of_mass``);
                  ``spring`` (N/m or N m/rad) and ``damper`` (N s/m or N m s/rad) to the built
@@ -35,9 +38,10 @@ __all__ = ["DRIVEN_KINDS", "DRIVEN_KEYS", "SchedulePoint", "validate_driven", "m
 DRIVEN_KINDS = ("oscillation", "servo", "free")
 #: the keys each driven kind takes
 DRIVEN_KEYS = {
-    "oscillation": ("amplitude", "frequency", "phase", "direction", "axis", "centre"),
+    "oscillation": ("amplitude", "frequency", "phase", "direction", "axis", "centre",
+                    "update_every"),
     "servo": ("stress", "force", "stress_schedule", "force_schedule", "max_speed", "direction",
-              "area", "gain"),
+              "area", "gain", "update_every"),
     "free": ("mass", "inertia", "direction", "axis", "centre", "centre_of_mass", "spring",
              "damper"),
 }
@@ -121,7 +125,8 @@ def make_driver(m, handles, sim):
     from gsi.dem.wall_drivers import FreeWall, Oscillation, Servo
     if m.kind == "oscillation":
         d = Oscillation(handles, amplitude=m.amplitude, frequency=m.frequency, phase=m.phase,
-                        direction=m.direction, axis=m.axis, centre=m.centre)
+                        direction=m.direction, axis=m.axis, centre=m.centre,
+                        update_every=m.update_every)
     elif m.kind == "servo":
         stress = m.stress is not None or m.stress_schedule is not None
         if m.stress_schedule is not None or m.force_schedule is not None:
@@ -130,7 +135,8 @@ def make_driver(m, handles, sim):
             target = m.stress if m.stress is not None else m.force
             peak = abs(target)
         d = Servo(handles[0], target=target, peak=peak, max_speed=m.max_speed,
-                  direction=m.direction, area=m.area, gain=m.gain, stress=stress)
+                  direction=m.direction, area=m.area, gain=m.gain, stress=stress,
+                  update_every=m.update_every)
     else:
         d = FreeWall(handles[0], gravity=sim.g, mass=m.mass if m.axis is None else None,
                      inertia=m.inertia, direction=m.direction, axis=m.axis, centre=m.centre,

@@ -81,6 +81,9 @@ class Motion:
     frequency: Optional[float] = param(None, unit="Hz", check=positive(),
                                        doc="oscillation: frequency")
     phase: float = param(0.0, unit="rad", doc="oscillation: phase")
+    update_every: int = param(1, check=positive(),
+                              doc="oscillation, servo: DEM steps between velocity updates "
+                              "(1: every step, exact)")
     direction: Optional[Vec3] = param(None, unit="-", length=3,
                                       doc="oscillation, servo, free: direction of the motion "
                                       "(servo: into the particles; default: a plane's normal)")
@@ -276,9 +279,9 @@ class Motion:
 _OPTIONAL_KEYS = ("velocity", "axis", "centre", "rpm", "omega", "events", "amplitude",
                   "frequency", "phase", "direction", "stress", "force", "stress_schedule",
                   "force_schedule", "max_speed", "area", "gain", "mass", "inertia",
-                  "centre_of_mass", "spring", "damper")
+                  "centre_of_mass", "spring", "damper", "update_every")
 _DEFAULTS = {key: (0.0 if key in ("phase", "spring", "damper") else None)
-             for key in _OPTIONAL_KEYS}
+             for key in _OPTIONAL_KEYS} | {"update_every": 1}
 
 
 def next_event(walls, t: float) -> float:

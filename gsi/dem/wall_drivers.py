@@ -3,9 +3,11 @@
 A *driver* sets a plane's or a mesh wall's velocity (and, for a mesh wall, its angular
 velocity) before every DEM step, from the simulation time and the wall's force of the
 last step.  Drivers are added with ``sim.drivers.add(driver)`` (:class:`WallDrivers`); while a
-simulation has one, the step loop (:mod:`gsi.dem.step_loop`) runs chunks of ONE step
-and calls :meth:`WallDrivers.drive` before each (a Python call per step: measured in
-``benchmarks/driven_walls.py``); without one, the loop is unchanged.
+simulation has one, the step loop (:mod:`gsi.dem.step_loop`) runs chunks up to the next driver update
+(``update_every`` steps: 1 by default, always 1 for a free wall) and calls
+:meth:`WallDrivers.drive` before each (a call into the compiled engine per chunk, whose
+arguments numba types each time: about 5e-5 to 4e-4 s, measured in
+``benchmarks/driven_walls.py``); without a driver, the loop is unchanged.
 
 All three act along one *axis* (a unit vector ``direction``) or about one hinge axis
 (``axis`` through ``centre``, mesh walls only):
@@ -89,9 +91,19 @@ class WallDrivers:
         return driver
 
     def drive(self, sim):
-        """Set every driven wall's velocity for the next step [t, t + dt]."""
+        """Set the velocity of every driven wall due for an update (``sim.step_count`` has
+        reached its next update) for its next ``every`` steps; return the steps until the
+        next update of any driver (the step loop's chunk)."""
+        now = sim.step_count
         for d in self.items:
-            d.drive(sim)
+            if now >= d.next_step:
+                d.drive(sim)
+                d.next_step = now + d.every
+        return self.steps_due(now)
+
+    def steps_due(self, now):
+        """Steps from ``now`` to the next update of any driver (>= 1)."""
+        return max(1, min(d.next_step for d in self.items) - now)
 
 
 class _Axial:
@@ -122,6 +134,8 @@ class _Axial:
                 direction = self.walls[0].normal
             self.d = _unit(direction, f"{what}.direction")
         self.ref = self._place()
+        self.every = 1              # steps between updates (Oscillation, Servo: update_every)
+        self.next_step = 0          # step count of the next update
         self.angle = 0.0            # rotation since the start (rad)
         self.rate = 0.0             # velocity (m/s) or angular velocity (rad/s) now set
 
@@ -178,12 +192,18 @@ class Oscillation(_Axial):
         and a point on it (m).
     phase : float, default 0
         phi (rad).
+    update_every : int, default 1
+        k: steps between velocity updates.  The secant velocity (s(t + k dt) - s(t))/(k dt)
+        puts the wall exactly on s at every k-th step and on the chord between (off by at
+        most A (w k dt)^2/8); k = 1 is exact at every step.  A larger k saves the one-step
+        chunks' cost (:mod:`gsi.dem.wall_drivers`) where the path between may be a chord.
     """
 
     def __init__(self, walls, *, amplitude, frequency, direction=None, axis=None,
-                 centre=None, phase=0.0):
+                 centre=None, phase=0.0, update_every=1):
         super().__init__(walls, direction=direction, axis=axis, centre=centre,
                          what="oscillation")
+        self.every = _steps(update_every, "oscillation.update_every")
         if not amplitude > 0 or not frequency > 0:
             raise GsiInputError(f"oscillation: amplitude = {amplitude} and frequency = "
                                 f"{frequency} must be > 0")
@@ -198,8 +218,8 @@ class Oscillation(_Axial):
         return self.A * self.w ** 2 / float(np.linalg.norm(g))
 
     def drive(self, sim):
-        t, dt = sim.time, sim.dt
-        self._set((self.s(t + dt) - self.s(t)) / dt, dt)
+        t, h = sim.time, self.every * sim.dt
+        self._set((self.s(t + h) - self.s(t)) / h, h)
 
 
 def wall_stiffness(sim, wall, force, area):
@@ -247,11 +267,14 @@ class Servo(_Axial):
     peak : float, optional
         The largest target (same unit) for the stiffness estimate (default: ``target``
         when constant; needed with a callable).
+    update_every : int, default 1
+        k: steps between velocity updates; the stability rule becomes G K k dt <= 1.
     """
 
     def __init__(self, wall, *, target, max_speed, direction=None, area=None, gain=None,
-                 peak=None, stress=None):
+                 peak=None, stress=None, update_every=1):
         super().__init__(wall, direction=direction, what="servo")
+        self.every = _steps(update_every, "servo.update_every")
         self.stress = area is not None if stress is None else bool(stress)
         if not callable(target):
             value = float(target)
@@ -297,10 +320,10 @@ class Servo(_Axial):
         K = wall_stiffness(sim, self.walls[0], self.peak_force, self.area)
         if K == 0.0:
             return None
-        limit = 1.0 / (K * sim.dt)
+        limit = 1.0 / (K * self.every * sim.dt)
         if self.user_gain is not None and self.user_gain > limit:
             raise GsiInputError(f"servo.gain = {self.user_gain:g}: above the stability limit "
-                                f"1/(K dt) = {limit:.3g} m/(s N) (K = {K:.3g} N/m, the wall "
+                                f"1/(K k dt) = {limit:.3g} m/(s N) (K = {K:.3g} N/m, the wall "
                                 f"contacts' stiffness); lower it or leave it out "
                                 f"(default {SERVO_ALPHA} of the limit)")
         self.stiffness = K
@@ -314,7 +337,13 @@ class Servo(_Axial):
                 return
         self._target = self.target_force(sim.time)
         v = self.gain * (self._target - self.normal_force)
-        self._set(min(self.v_max, max(-self.v_max, v)), sim.dt)
+        self._set(min(self.v_max, max(-self.v_max, v)), self.every * sim.dt)
+
+
+def _steps(k, key):
+    if int(k) != k or k < 1:
+        raise GsiInputError(f"{key} = {k}: must be an integer >= 1 (DEM steps)")
+    return int(k)
 
 
 def projected_area(wall, d):

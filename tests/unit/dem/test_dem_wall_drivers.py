@@ -77,3 +77,20 @@ def test_free_wall_errors_and_oscillation_start():
     osc = Oscillation(plane, amplitude=1e-3, frequency=10.0, phase=0.7)
     assert osc.s(0.0) == 0.0                      # starts where it was built
     assert osc.gamma(sim.g) == pytest.approx(1e-3 * (20 * math.pi) ** 2 / 9.81)
+
+
+def test_oscillation_updated_every_k_steps_is_exact_at_updates_and_on_the_chord():
+    sim = _sim()
+    plane = sim.add_plane((0, 0, 0), (0, 0, 1), material="m")
+    k = 20
+    osc = sim.drivers.add(Oscillation(plane, amplitude=1e-3, frequency=10.0, update_every=k))
+    sim.add_particles([[0, 0, 0.01]], 1e-3, material="m")
+    for _ in range(30):               # calls that end inside a chunk: the chunk carries on
+        sim.step(7)
+        n = sim.step_count
+        t0, t1 = (n // k) * k * sim.dt, (n // k + 1) * k * sim.dt
+        w = (sim.time - t0) / (t1 - t0)
+        chord = (1 - w) * osc.s(t0) + w * osc.s(t1)
+        assert plane.point[2] == pytest.approx(chord, abs=1e-15)
+    with pytest.raises(GsiInputError, match="oscillation.update_every"):
+        Oscillation(plane, amplitude=1e-3, frequency=10.0, update_every=0)
