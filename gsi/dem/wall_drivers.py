@@ -51,8 +51,9 @@ Notes
 -----
 * Walls stand still while the simulation holds no particles (the step loop counts
   the clock only); an oscillation keeps its clock, so its phase is the simulation time's.
-* A free wall's state (its velocity) is the driver's: restarting from a checkpoint
-  restarts a free wall at rest (checkpoints hold the particles and walls, not drivers).
+* A driver's own state (next update, velocity, a free wall's half-step velocity, a
+  servo's gain and target) is in the simulation's checkpoints (:meth:`_Axial.state`):
+  a restart continues bit-identically.
 """
 import math
 
@@ -175,6 +176,20 @@ class _Axial:
         return self.rate
 
     target = math.nan
+
+    #: the driver's state beyond its walls' (checkpoints: gsi.dem.checkpoint_state)
+    _STATE = ("next_step", "angle", "rate")
+
+    def state(self):
+        """The driver's state as one float array (NaN: unset)."""
+        return np.array([math.nan if getattr(self, k) is None else float(getattr(self, k))
+                         for k in self._STATE])
+
+    def set_state(self, a):
+        """Restore :meth:`state` (the driver of a simulation built the same way)."""
+        for k, v in zip(self._STATE, a):
+            cast = {"next_step": int, "started": bool}.get(k, float)
+            setattr(self, k, None if math.isnan(v) else cast(v))
 
 
 class Oscillation(_Axial):
@@ -299,6 +314,8 @@ class Servo(_Axial):
         self.user_gain = None if gain is None else float(gain)
         self.gain = None           # set at the first step with particles (needs them)
 
+    _STATE = _Axial._STATE + ("gain", "_target")
+
     def target_force(self, t):
         """N_t(t) (N)."""
         return float(self.target_of(t)) * (self.area if self.stress else 1.0)
@@ -405,6 +422,8 @@ class FreeWall(_Axial):
             self.weight = m * self.g
         else:
             self.weight = float(value) * self.g
+
+    _STATE = _Axial._STATE + ("v_half", "started")
 
     def _gravity(self):
         """Gravity's force along d (N) or torque about the axis (N m) now."""
