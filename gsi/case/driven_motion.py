@@ -119,9 +119,9 @@ def _schedule(points):
     return (lambda time: float(np.interp(time, t, v))), float(np.abs(v).max())
 
 
-def make_driver(m, handles, sim):
-    """The driver (:mod:`gsi.dem.wall_drivers`) of a driven motion ``m`` of the walls
-    ``handles``, added to ``sim``."""
+def make_driver(m, handles, sim, key="motion"):
+    """The driver (:mod:`gsi.dem.wall_drivers`) of a driven motion ``m`` (key path
+    ``key``) of the walls ``handles``, added to ``sim``."""
     from gsi.dem.wall_drivers import FreeWall, Oscillation, Servo
     if m.kind == "oscillation":
         d = Oscillation(handles, amplitude=m.amplitude, frequency=m.frequency, phase=m.phase,
@@ -136,7 +136,7 @@ def make_driver(m, handles, sim):
             peak = abs(target)
         d = Servo(handles[0], target=target, peak=peak, max_speed=m.max_speed,
                   direction=m.direction, area=m.area, gain=m.gain, stress=stress,
-                  update_every=m.update_every)
+                  update_every=m.update_every, key=key)
     else:
         d = FreeWall(handles[0], gravity=sim.g, mass=m.mass if m.axis is None else None,
                      inertia=m.inertia, direction=m.direction, axis=m.axis, centre=m.centre,

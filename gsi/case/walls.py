@@ -337,7 +337,7 @@ class Wall:
         self.apply_motion(handles, sim.time)
         if self.motion.driven:                # oscillation, servo, free: a driver per step
             from gsi.case.driven_motion import make_driver
-            make_driver(self.motion, handles, sim)
+            make_driver(self.motion, handles, sim, key=f"{path}.motion")
         return handles
 
     def apply_motion(self, handles, t: float) -> None:

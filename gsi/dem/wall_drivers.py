@@ -284,11 +284,14 @@ class Servo(_Axial):
         when constant; needed with a callable).
     update_every : int, default 1
         k: steps between velocity updates; the stability rule becomes G K k dt <= 1.
+    key : str, default "servo"
+        The servo's name in the error that refuses ``gain`` (a case passes its key path).
     """
 
     def __init__(self, wall, *, target, max_speed, direction=None, area=None, gain=None,
-                 peak=None, stress=None, update_every=1):
+                 peak=None, stress=None, update_every=1, key="servo"):
         super().__init__(wall, direction=direction, what="servo")
+        self.key = key              # the name of the servo in messages (a case's walls[i].motion)
         self.every = _steps(update_every, "servo.update_every")
         self.stress = area is not None if stress is None else bool(stress)
         if not callable(target):
@@ -339,7 +342,7 @@ class Servo(_Axial):
             return None
         limit = 1.0 / (K * self.every * sim.dt)
         if self.user_gain is not None and self.user_gain > limit:
-            raise GsiInputError(f"servo.gain = {self.user_gain:g}: above the stability limit "
+            raise GsiInputError(f"{self.key}.gain = {self.user_gain:g}: above the stability limit "
                                 f"1/(K k dt) = {limit:.3g} m/(s N) (K = {K:.3g} N/m, the wall "
                                 f"contacts' stiffness); lower it or leave it out "
                                 f"(default {SERVO_ALPHA} of the limit)")

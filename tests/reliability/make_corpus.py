@@ -121,6 +121,7 @@ SPEC = {
     "servo_two_targets": (P + PLANE + 'motion = { kind = "servo", stress = 500.0, force = 1.0, area = 0.0036, max_speed = 0.1 }\n', [], "walls[1].motion.stress", "check", "a servo with a stress and a force"),
     "servo_without_max_speed": (P + PLANE + 'motion = { kind = "servo", force = 1.0, area = 0.0036 }\n', [], "walls[1].motion.max_speed", "check", "a servo without its largest speed"),
     "servo_box_of_planes": (P, [('hi = [0.06, 0.06, 0.2]\n', 'hi = [0.06, 0.06, 0.2]\nmotion = { kind = "servo", force = 1.0, area = 0.0036, max_speed = 0.1 }\n')], "walls[0].motion.kind", "check", "a servo box of planes"),
+    "servo_gain_unstable": (P + PLANE.replace('point = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]', 'point = [0.0, 0.0, 0.19]\nnormal = [0.0, 0.0, -1.0]') + 'motion = { kind = "servo", force = 1.0, area = 0.0036, max_speed = 0.1, gain = 1000.0 }\n', [], "walls[1].motion.gain", "run", "a servo gain above its stability limit (known once particles exist)"),
     "free_plane_hinged": (P + PLANE + 'motion = { kind = "free", inertia = 1.0, axis = [1.0, 0.0, 0.0], centre = [0.0, 0.0, 0.0] }\n', [], "walls[1].motion.axis", "check", "a free plane on a hinge"),
     "free_without_mass": (P + PLANE + 'motion = { kind = "free", damper = 1.0 }\n', [], "walls[1].motion.mass", "check", "a free wall without mass"),
     "free_negative_mass": (P + PLANE + 'motion = { kind = "free", mass = -1.0 }\n', [], "walls[1].motion.mass", "check", "a free wall of negative mass"),

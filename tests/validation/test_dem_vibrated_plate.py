@@ -31,7 +31,7 @@ def _plate(sim, kind):
                              [[0, 1, 2], [0, 2, 3]], material="m")
 
 
-def _steps_off_the_plate(gamma, kind="plane", periods=1):
+def _steps_off_the_plate(gamma, kind="plane", periods=0.75):
     """Steps (after the first quarter period, when the start has rung out: the contact
     rings at ~30 w, damped with e = 0.5) in which the sphere does not touch the plate.
     The plate's acceleration is most negative at half periods."""
