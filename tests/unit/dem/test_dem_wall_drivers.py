@@ -123,3 +123,20 @@ def test_driven_walls_restart_bit_identically_from_a_checkpoint():
     for da, db in zip(a.drivers.items, b.drivers.items):
         np.testing.assert_array_equal(da.state(), db.state())
     assert a.drivers.items[1].position != 0.0          # the free wall moved
+
+
+def test_servo_plate_presses_a_sphere_to_its_target_force():
+    """A mesh plate (force target, projected area by default) squeezes a sphere on a
+    floor: at rest the plate carries the target and the floor target + weight."""
+    sim = _sim()
+    floor = sim.add_plane((0, 0, 0), (0, 0, 1), material="m")
+    s = 0.004
+    plate = sim.add_mesh_wall([[-s, -s, 0.0021], [s, -s, 0.0021], [s, s, 0.0021],
+                               [-s, s, 0.0021]], [[0, 1, 2], [0, 2, 3]], material="m")
+    servo = sim.drivers.add(Servo(plate, target=1e-3, max_speed=0.05, direction=(0, 0, -1)))
+    assert servo.area == pytest.approx(4 * s * s)
+    sim.add_particles([[0, 0, 1e-3]], 1e-3, material="m")
+    sim.step(1200)               # touches after ~550 steps (the gap closes at G N_t)
+    W = sim.mass[0] * 9.81
+    assert servo.normal_force == pytest.approx(1e-3, rel=1e-3)
+    assert -floor.force[2] == pytest.approx(1e-3 + W, rel=1e-3)
