@@ -10,7 +10,7 @@ from typing import Optional
 
 import numpy as np
 
-from gsi.case.regions import _prefix
+from gsi.case.regions import key_prefix
 from gsi.config.schema import nonnegative, one_of, param
 from gsi.errors import GsiInputError
 
@@ -104,7 +104,7 @@ class Motion:
     def validate(self, path: str = "motion", *, has_axis: bool = True) -> None:
         """Keys match the kind.  ``has_axis=False``: the wall supplies no default axis and
         centre, so a rotation must give both (:meth:`Wall.validate` passes it)."""
-        p = _prefix(path)
+        p = key_prefix(path)
         uses = {"fixed": (), "translation": ("velocity",),
                 "rotation": ("axis", "centre", "rpm", "omega"),
                 "schedule": ("events", "axis", "centre")}[self.kind]
@@ -219,7 +219,7 @@ class Motion:
             return
         for i, t in enumerate(self.event_times()):
             if t >= duration - _time_tol(duration):
-                raise GsiInputError(f"{_prefix(path)}events[{i}].t = {t}: at or after the end of "
+                raise GsiInputError(f"{key_prefix(path)}events[{i}].t = {t}: at or after the end of "
                                     f"the run (run.duration = {duration} s); it would never "
                                     "happen: move it earlier or remove it (s)")
 
