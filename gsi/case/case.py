@@ -311,14 +311,14 @@ class Case:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")     # the case's own warnings were given
                 try:
-                    q._check_quick_form()
+                    q.check_quick_form()
                 except GsiInputError as exc:
                     raise GsiInputError(f"{exc} (with the [quick] overrides)") from None
         for words in size_warnings:
             warnings.warn(words, stacklevel=2)
         return dt
 
-    def _check_quick_form(self) -> None:
+    def check_quick_form(self) -> None:
         """The checks of :meth:`check` that a ``[quick]`` override can break (sizes, counts,
         materials, the step), without those a shorter run breaks on purpose (a stream or a
         schedule event after its end)."""

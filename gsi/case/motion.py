@@ -11,7 +11,7 @@ from typing import Optional
 import numpy as np
 
 from gsi.case.driven_motion import DRIVEN_KEYS, DRIVEN_KINDS, SchedulePoint, validate_driven
-from gsi.case.regions import _prefix
+from gsi.case.regions import key_prefix
 from gsi.config.schema import nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
@@ -142,7 +142,7 @@ class Motion:
         centre, so a rotation must give both (:meth:`Wall.validate` passes it);
         ``planes``/``box``: the wall is a plane or a box of planes (the driven kinds;
         None: the wall is not known yet, its checks wait for :meth:`Wall.validate`)."""
-        p = _prefix(path)
+        p = key_prefix(path)
         uses = {"fixed": (), "translation": ("velocity",),
                 "rotation": ("axis", "centre", "rpm", "omega"),
                 "schedule": ("events", "axis", "centre"), **DRIVEN_KEYS}[self.kind]
@@ -271,7 +271,7 @@ class Motion:
             return
         for i, t in enumerate(self.event_times()):
             if t >= duration - _time_tol(duration):
-                raise GsiInputError(f"{_prefix(path)}events[{i}].t = {t}: at or after the end of "
+                raise GsiInputError(f"{key_prefix(path)}events[{i}].t = {t}: at or after the end of "
                                     f"the run (run.duration = {duration} s); it would never "
                                     "happen: move it earlier or remove it (s)")
 

@@ -60,7 +60,7 @@ from typing import Optional
 import numpy as np
 
 from gsi.case.motion import MOTION_KINDS, RPM, Motion, MotionEvent, next_event  # noqa: F401
-from gsi.case.regions import _prefix
+from gsi.case.regions import key_prefix
 from gsi.config.schema import nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
@@ -165,7 +165,7 @@ class Wall:
     # ---- validation
     def validate(self, path: str = "walls") -> None:
         """Keys match the kind; the motion suits the shape (a plane cannot rotate)."""
-        p = _prefix(path)
+        p = key_prefix(path)
         allowed, need = _KEYS[self.kind], _NEED[self.kind]
         defaults = {f.name: f.default for f in dataclasses.fields(self)}
         for key in _SHAPE_KEYS:
@@ -294,7 +294,7 @@ class Wall:
 
     def _read_mesh(self, base_dir: pathlib.Path, path: str):
         from gsi.dem.walls import MeshWall
-        p = _prefix(path)
+        p = key_prefix(path)
         f = base_dir / self.file
         if not f.is_file():
             raise GsiInputError(f"{p}file = '{self.file}': no such file (looked in "
@@ -367,7 +367,7 @@ class Wall:
         100 x its size ("did you give mm?"); no schedule event at or after ``duration``.
         """
         self.validate(path)
-        p = _prefix(path)
+        p = key_prefix(path)
         self.motion.check(f"{p}motion", duration=duration, has_axis=self.kind in _AXIAL,
                           planes=self._planes, box=self.kind == "box" and self.as_planes)
         dlo, dhi = np.asarray(domain_lo, float), np.asarray(domain_hi, float)

@@ -178,16 +178,16 @@ class _Axial:
     target = math.nan
 
     #: the driver's state beyond its walls' (checkpoints: gsi.dem.checkpoint_state)
-    _STATE = ("next_step", "angle", "rate")
+    STATE_KEYS = ("next_step", "angle", "rate")
 
     def state(self):
         """The driver's state as one float array (NaN: unset)."""
         return np.array([math.nan if getattr(self, k) is None else float(getattr(self, k))
-                         for k in self._STATE])
+                         for k in self.STATE_KEYS])
 
     def set_state(self, a):
         """Restore :meth:`state` (the driver of a simulation built the same way)."""
-        for k, v in zip(self._STATE, a):
+        for k, v in zip(self.STATE_KEYS, a):
             cast = {"next_step": int, "started": bool}.get(k, float)
             setattr(self, k, None if math.isnan(v) else cast(v))
 
@@ -317,7 +317,7 @@ class Servo(_Axial):
         self.user_gain = None if gain is None else float(gain)
         self.gain = None           # set at the first step with particles (needs them)
 
-    _STATE = _Axial._STATE + ("gain", "_target")
+    STATE_KEYS = _Axial.STATE_KEYS + ("gain", "_target")
 
     def target_force(self, t):
         """N_t(t) (N)."""
@@ -426,7 +426,7 @@ class FreeWall(_Axial):
         else:
             self.weight = float(value) * self.g
 
-    _STATE = _Axial._STATE + ("v_half", "started")
+    STATE_KEYS = _Axial.STATE_KEYS + ("v_half", "started")
 
     def _gravity(self):
         """Gravity's force along d (N) or torque about the axis (N m) now."""
