@@ -1,6 +1,6 @@
 """The cases with walls that respond (demos/servo_lid.toml, free_piston.toml,
-vibrated_bed.toml, grate.toml) run in their quick form, each checked against statics or
-the prescribed motion."""
+vibrated_plate.toml, vibrated_bed.toml, grate.toml) run in their quick form, each checked
+against statics, the lift-off time or the prescribed motion."""
 import math
 import pathlib
 
