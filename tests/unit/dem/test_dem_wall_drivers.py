@@ -140,3 +140,22 @@ def test_servo_plate_presses_a_sphere_to_its_target_force():
     W = sim.mass[0] * 9.81
     assert servo.normal_force == pytest.approx(1e-3, rel=1e-3)
     assert -floor.force[2] == pytest.approx(1e-3 + W, rel=1e-3)
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.1])
+def test_free_wall_on_a_spring_and_damper_is_the_damped_oscillator(zeta):
+    """No contact (a particle far away), no gravity along the wall's direction: the wall
+    is a mass on a spring and damper, x(t) = v0/w_d exp(-zeta w t) sin(w_d t); leapfrog
+    (the particles' scheme) is second order, its explicit damper first order in dt."""
+    sim = _sim()
+    wall = sim.add_plane((0, 0, 0), (1, 0, 0), material="m")
+    M, k, v0 = 1e-3, 100.0, 0.01
+    w = math.sqrt(k / M)
+    c = 2 * zeta * M * w
+    fw = sim.drivers.add(FreeWall(wall, mass=M, gravity=sim.g, spring=k, damper=c,
+                                  velocity=v0))
+    sim.add_particles([[0.01, 0, 0.02]], 1e-3, material="m")
+    sim.step(250)                                   # a quarter period at zeta = 0
+    wd = w * math.sqrt(1 - zeta ** 2)
+    x = v0 / wd * math.exp(-zeta * w * sim.time) * math.sin(wd * sim.time)
+    assert fw.position == pytest.approx(x, rel=1e-4 if zeta == 0 else 2e-3)
