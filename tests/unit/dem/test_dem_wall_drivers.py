@@ -159,3 +159,20 @@ def test_free_wall_on_a_spring_and_damper_is_the_damped_oscillator(zeta):
     wd = w * math.sqrt(1 - zeta ** 2)
     x = v0 / wd * math.exp(-zeta * w * sim.time) * math.sin(wd * sim.time)
     assert fw.position == pytest.approx(x, rel=1e-4 if zeta == 0 else 2e-3)
+
+
+def test_hinged_free_wall_swings_as_a_pendulum():
+    """A plate on a hinge (axis y) with its weight acting r below the axis, I = m r^2: a
+    small swing theta = w0/W sin(W t), W = sqrt(m g r/I) = sqrt(g/r)."""
+    sim = _sim()
+    s = 0.004
+    plate = sim.add_mesh_wall([[-s, -s, -s], [s, -s, -s], [s, s, -s], [-s, s, -s]],
+                              [[0, 1, 2], [0, 2, 3]], material="m")
+    m, r, w0 = 1e-3, 1e-3, 0.099
+    fw = sim.drivers.add(FreeWall(plate, inertia=m * r * r, axis=(0, 1, 0), centre=(0, 0, 0),
+                                  mass_for_gravity=m, centre_of_mass=(0, 0, -r),
+                                  gravity=sim.g, velocity=w0))
+    sim.add_particles([[0, 0, 0.015]], 1e-3, material="m")
+    W = math.sqrt(9.81 / r)
+    sim.step(800)
+    assert fw.position == pytest.approx(w0 / W * math.sin(W * sim.time), rel=1e-3)
