@@ -33,7 +33,8 @@ import numpy as np
 from gsi.config.schema import nonnegative, param
 from gsi.errors import GsiInputError
 
-__all__ = ["DRIVEN_KINDS", "DRIVEN_KEYS", "SchedulePoint", "validate_driven", "make_driver"]
+__all__ = ["DRIVEN_KINDS", "DRIVEN_KEYS", "SchedulePoint", "validate_driven", "make_driver",
+           "check_servo_gains"]
 
 DRIVEN_KINDS = ("oscillation", "servo", "free")
 #: the keys each driven kind takes
@@ -143,3 +144,37 @@ def make_driver(m, handles, sim, key="motion"):
                      mass_for_gravity=m.mass, centre_of_mass=m.centre_of_mass,
                      spring=m.spring, damper=m.damper)
     return sim.drivers.add(d)
+
+
+def check_servo_gains(case, dt: float) -> None:
+    """Refuse a servo ``gain`` above the stability limit 1/(K k dt) before the run (the
+    stiffness estimate of :class:`gsi.dem.wall_drivers.Servo` from the case's smallest
+    planned radius and its materials; the run checks it again with its particles)."""
+    from gsi.dem.wall_drivers import projected_area, stiffness_estimate
+    mats = case.dem_materials()
+    r = case.smallest_radius()
+    for i, w in enumerate(case.walls):
+        m = w.motion
+        if m.kind != "servo" or m.gain is None:
+            continue
+        if m.area is not None:
+            area = m.area
+        else:
+            V, T = w.surface(base_dir=case.base_dir)
+            area = projected_area(V, T, np.asarray(m.direction, float)
+                                  / np.linalg.norm(m.direction))
+        sched = m.stress_schedule or m.force_schedule
+        peak = max(abs(s.value) for s in sched) if sched else abs(
+            m.stress if m.stress is not None else m.force)
+        force = peak * area if (m.stress is not None or m.stress_schedule) else peak
+        wm = mats[w.material]
+        E_eff = max(1.0 / ((1 - p.nu ** 2) / p.E + (1 - wm.nu ** 2) / wm.E)
+                    for p in (mats[s.material] for s in case.particles))
+        K = stiffness_estimate(E_eff=E_eff, r=r, force=force, area=area,
+                               k_linear=case.dem.k_n if case.dem.contact == "linear" else None)
+        limit = 1.0 / (K * m.update_every * dt)
+        if m.gain > limit:
+            raise GsiInputError(f"walls[{i}].motion.gain = {m.gain:g}: above the stability "
+                                f"limit 1/(K k dt) = {limit:.3g} m/(s N) (K = {K:.3g} N/m, the "
+                                f"wall contacts' stiffness); lower it or leave it out "
+                                f"(default 0.5 of the limit)")

@@ -237,24 +237,29 @@ class Oscillation(_Axial):
         self._set((self.s(t + h) - self.s(t)) / h, h)
 
 
+def stiffness_estimate(*, E_eff, r, force, area, k_linear=None):
+    """An upper estimate K (N/m) of the summed normal stiffness of the contacts of a wall
+    carrying ``force`` (N) over ``area`` (m^2): N_c = area/(2 sqrt(3) r^2) contacts (a
+    hexagonal layer of spheres of the smallest radius ``r``), each carrying f = force/N_c,
+    Hertz k_n = (6 E*^2 r f)^(1/3) (``E_eff`` = E* of the stiffest particle-wall pair,
+    Pa), or the linear law's ``k_linear`` (N/m)."""
+    n_c = max(1.0, HEX_LAYER * area / r ** 2)
+    if k_linear is not None:
+        return n_c * float(k_linear)
+    return n_c * (6.0 * E_eff ** 2 * r * abs(force) / n_c) ** (1.0 / 3.0)
+
+
 def wall_stiffness(sim, wall, force, area):
-    """An upper estimate K (N/m) of the summed normal stiffness of the contacts of
-    ``wall`` carrying ``force`` (N) over ``area`` (m^2): N_c = area/(2 sqrt(3) r^2)
-    contacts (a hexagonal layer of the smallest particles), each carrying f = force/N_c,
-    k_n = (6 E*^2 r f)^(1/3) (Hertz, the stiffest wall material pair) or the linear law's
-    k_n.  Returns 0 without particles."""
+    """:func:`stiffness_estimate` for ``wall`` of ``sim`` and its particles now (0 without
+    particles)."""
     if sim.n == 0:
         return 0.0
-    r = float(sim.radius.min())
-    n_c = max(1.0, HEX_LAYER * area / r ** 2)
     wt = sim.material_index(wall.material)
     types = np.unique(sim.type)
-    if sim.contact == "linear":
-        k = float(sim.table[types, wt, P_KN].max())
-    else:
-        E = float(sim.table[types, wt, P_E].max())
-        k = (6.0 * E ** 2 * r * abs(force) / n_c) ** (1.0 / 3.0)
-    return n_c * k
+    k_lin = float(sim.table[types, wt, P_KN].max()) if sim.contact == "linear" else None
+    return stiffness_estimate(E_eff=float(sim.table[types, wt, P_E].max()),
+                              r=float(sim.radius.min()), force=force, area=area,
+                              k_linear=k_lin)
 
 
 class Servo(_Axial):
@@ -307,7 +312,7 @@ class Servo(_Axial):
             if isinstance(self.walls[0], PlaneWall):
                 raise GsiInputError("servo.area: missing; a plane is infinite: give the area "
                                     "(m^2) its particles press on")
-            area = projected_area(self.walls[0], self.d)
+            area = projected_area(self.walls[0].vertices, self.walls[0].triangles, self.d)
         elif not area > 0:
             raise GsiInputError(f"servo.area = {area}: must be > 0 (m^2)")
         self.area = float(area)
@@ -366,9 +371,10 @@ def _steps(k, key):
     return int(k)
 
 
-def projected_area(wall, d):
-    """Area (m^2) of a mesh wall's triangles projected on the plane normal to ``d``."""
-    x = wall.vertices[wall.triangles]
+def projected_area(vertices, triangles, d):
+    """Area (m^2) of triangles (``vertices`` (nv, 3) m, ``triangles`` (nt, 3)) projected
+    on the plane normal to ``d``."""
+    x = np.asarray(vertices, float)[np.asarray(triangles)]
     n = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
     return 0.5 * float(np.abs(n @ d).sum())
 

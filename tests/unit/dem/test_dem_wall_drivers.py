@@ -54,7 +54,8 @@ def test_projected_area_of_a_tilted_plate():
     c, s = math.cos(0.3), math.sin(0.3)
     w = sim.add_mesh_wall([[-0.01, -0.01, 0], [0.01, -0.01, 0], [0.01, 0.01, 0.02 * s / c],
                            [-0.01, 0.01, 0.02 * s / c]], [[0, 1, 2], [0, 2, 3]], material="m")
-    assert projected_area(w, np.array([0.0, 0.0, 1.0])) == pytest.approx(4e-4, rel=1e-12)
+    assert projected_area(w.vertices, w.triangles, np.array([0.0, 0.0, 1.0])) == \
+        pytest.approx(4e-4, rel=1e-12)
 
 
 @pytest.mark.parametrize("kwargs, key", [
