@@ -10,6 +10,8 @@ import math
 import numpy as np
 
 from gsi.case.names import check_name, check_unique_across
+from gsi.case.structure_checks import check_structures
+from gsi.meshes.footprint import point_triangle_distance
 from gsi.errors import GsiInputError
 
 __all__ = ["check_output_names", "check_pairs", "check_planes_and_fills",
@@ -176,28 +178,6 @@ def check_heat_stability(case, dt: float) -> None:
                 f"true to run anyway)")
 
 
-def _point_triangle_distance(P: np.ndarray, A, B, C) -> np.ndarray:
-    """Distance (n, m) of points P (n, 3) to triangles (A, B, C) (m, 3 each): to the plane
-    when the projection falls inside, else to the nearest edge."""
-    def seg(P, a, b):
-        ab = b - a
-        t = np.clip(np.einsum("nmk,mk->nm", P[:, None, :] - a[None], ab)
-                    / np.maximum(np.einsum("mk,mk->m", ab, ab), 1e-300), 0.0, 1.0)
-        q = a[None] + t[..., None] * ab[None]
-        return np.linalg.norm(P[:, None, :] - q, axis=2)
-    n = np.cross(B - A, C - A)
-    nn = np.linalg.norm(n, axis=1)
-    n = n / np.maximum(nn, 1e-300)[:, None]
-    d = P[:, None, :] - A[None]
-    h = np.einsum("nmk,mk->nm", d, n)
-    q = P[:, None, :] - h[..., None] * n[None]
-    inside = np.ones(h.shape, bool)
-    for a, b in ((A, B), (B, C), (C, A)):
-        inside &= np.einsum("nmk,mk->nm", np.cross(b - a, q - a[None]), n) >= 0
-    edges = np.minimum(np.minimum(seg(P, A, B), seg(P, B, C)), seg(P, C, A))
-    return np.where(inside & (nn > 0)[None], np.abs(h), edges)
-
-
 #: most site-triangle pairs the lattice check computes (beyond: checked on a sample)
 MAX_PAIRS = 20_000_000
 
@@ -224,7 +204,7 @@ def check_lattices_against_walls(case) -> None:
             chunk = max(1, 2_000_000 // len(T))       # bounded temporary arrays
             for k in range(0, len(near), chunk):
                 P = near[k:k + chunk]
-                d = _point_triangle_distance(P, V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]).min(1)
+                d = point_triangle_distance(P, V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]).min(1)
                 if (d < 0.999 * r).any():
                     s = P[int(np.argmin(d))]
                     raise GsiInputError(
@@ -290,11 +270,13 @@ def check_friction_stability(case, dt: float) -> None:
 
 
 def check_geometry(case) -> None:
-    """The geometric contradictions (planes and fills, monitor regions, lattices and walls)."""
+    """The geometric contradictions (planes and fills, monitor regions, lattices and walls,
+    structures outside the domain or through the particles)."""
     check_lengths(case)
     check_planes_and_fills(case)
     check_monitor_regions(case)
     check_lattices_against_walls(case)
+    check_structures(case)
 
 
 def check_stability(case, dt: float) -> None:

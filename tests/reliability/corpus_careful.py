@@ -119,3 +119,55 @@ DATA = {
 DATA_BYTES = {
     "bom_heap.csv": b"\xef\xbb\xbfx,y,z,radius\n0.02,0.02,0.05,0.002\n0.03,0.03,0.05,0.002\n",
 }
+
+
+def spec_structures(H, B, T, K, S2, PB) -> dict:
+    """FE structures: where their bodies lie (outside the domain, through the particles
+    placed at the start) and the size of their meshes (every builder and gmsh file gets an
+    estimate in ``gsi check``). Bases: H hopper_membrane (membrane builder), B belt_hopper
+    (a .geo), T thermal_silo (silo), K kiln (drum), S2 two_structures (hopper + membrane),
+    PB plate_on_block (two boxes, a particle file)."""
+    MEM = 'mesh = "membrane"\ngeometry'
+    HOP = 'translate = [0.0, 0.0, 0.3]'
+    BELT = 'tags = { contact = "belt_top"'
+    MSH = (B, [('file = "../../../meshes/belt.geo"', 'file = "data/belt.msh"'),
+               ("geometry = { length = 0.8, width = 0.3, thickness = 0.02, h = 0.06, layers = 1 }\n", "")])
+    KILN_MESH = 'mesh = "drum"'
+    PLATE = "length_z = 0.01, h = 0.01 }"
+    SHELL = ('mesh = "hopper"\ngeometry = { top_radius = 0.24, outlet_radius = 0.07, height = 0.3, thickness = 0.005, h = 0.04 }\ntranslate = [0.0, 0.0, 0.3]',
+             'mesh = "shell"\ngeometry = { radius = 0.2, height = 0.2, thickness = 0.005, hopper_height = 0.1, outlet_radius = 0.07, h = 0.04 }\ntranslate = [0.0, 0.0, 0.4]')
+    return {
+        # ---- a structure through the particles placed at the start
+        "membrane_through_fill": (H, [(MEM, 'mesh = "membrane"\ntranslate = [0.0, 0.0, 0.7]\ngeometry')], "particles[0].region", "check", "the membrane builder's plate through the random fill"),
+        "hopper_structure_through_fill": (S2, [(HOP, "translate = [0.0, 0.0, 0.7]")], "particles[0].region", "check", "the hopper builder's shell through the fill"),
+        "geo_belt_through_fill": (B, [(BELT, "translate = [0.0, 0.0, 0.5]\n" + BELT)], "particles[0].region", "check", "a .geo belt moved into the fill's cylinder"),
+        "silo_wall_through_fill": (T, [("radius = 0.045, length = 0.1", "radius = 0.06, length = 0.1")], "particles[0].region", "check", "a fill wider than the silo builder's wall"),
+        "kiln_lattice_through_shell": (K, [("radius = 0.059, length = 0.115", "radius = 0.07, length = 0.115")], "particles[0].region", "check", "lattice sites inside the drum builder's shell"),
+        "file_particles_inside_block": (PB, [('"../../../demos/data/plate_particles.csv"', '"data/inside_block.csv"')], "particles[0].file", "check", "particle file rows inside the block structure"),
+        "file_particle_cut_by_plate": (PB, [('"../../../demos/data/plate_particles.csv"', '"data/cut_by_plate.csv"')], "particles[0].file", "check", "a row 2 mm above the plate, radius 5 mm"),
+        "msh_through_fill": (MSH[0], MSH[1] + [(BELT, "translate = [0.0, 0.0, 0.5]\n" + BELT)], "particles[0].region", "check", "a .msh belt through the fill"),
+        "ok_fill_resting_on_membrane": (H, [("centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4", "centre = [0.0, 0.0, 0.016], radius = 0.06, length = 0.2"), ("count = 2000", "count = 100"), ("particles = [ { count = 400 } ]", "particles = [ { count = 50 } ]")], "-", "ok", "a fill region standing on the membrane (centres a radius above it)"),
+        "ok_plate_particles_touching": (PB, [], "-", "ok", "file particles resting on the plate (distance = radius)"),
+        "ok_msh_structure": (MSH[0], MSH[1], "-", "ok", "a structure from a .msh file"),
+        # ---- a structure outside the domain
+        "membrane_outside_domain": (H, [(MEM, 'mesh = "membrane"\ntranslate = [0.0, 0.0, 5.0]\ngeometry')], "structures[0].translate", "check", "a builder's membrane 5 m above the domain"),
+        "kiln_shell_outside_domain": (K, [(KILN_MESH, KILN_MESH + "\ntranslate = [1.0, 0.0, 0.0]")], "structures[0].translate", "check", "the drum builder's shell 1 m beside the domain"),
+        "msh_in_mm": (B, [('file = "../../../meshes/belt.geo"', 'file = "data/belt_mm.msh"'), ("geometry = { length = 0.8, width = 0.3, thickness = 0.02, h = 0.06, layers = 1 }\n", "")], "structures[0].file", "check", "a .msh written in mm: 800 m across"),
+        # ---- the mesh size of every builder
+        "membrane_h_tiny": (H, [("h = 0.06, n_thickness", "h = 0.0002, n_thickness")], "structures[0].geometry.h", "check", "membrane builder at h = 0.2 mm: 3e8 dofs"),
+        "membrane_h_5mm_warns": (H, [("h = 0.06, n_thickness", "h = 0.005, n_thickness")], "structures[0].geometry.h", "warn", "membrane builder at h = 5 mm: about 5e5 dofs"),
+        "silo_h_tiny": (T, [("bottom = \"flat\", h = 0.008", "bottom = \"flat\", h = 0.00005")], "structures[0].geometry.h", "check", "silo builder at h = 0.05 mm"),
+        "kiln_drum_h_tiny": (K, [("thickness = 0.005, h = 0.012", "thickness = 0.005, h = 0.00005")], "structures[0].geometry.h", "check", "drum builder at h = 0.05 mm"),
+        "hopper_h_tiny": (S2, [("thickness = 0.005, h = 0.04", "thickness = 0.005, h = 0.0002")], "structures[0].geometry.h", "check", "hopper builder at h = 0.2 mm"),
+        "box_h_tiny": (PB, [("length_z = 0.05, h = 0.0125", "length_z = 0.05, h = 0.0001")], "structures[1].geometry.h", "check", "box builder at h = 0.1 mm: 5e8 cells"),
+        "box_n_huge": (PB, [(PLATE, "length_z = 0.01, n = [2000, 2000, 200] }")], "structures[0].geometry.n", "check", "box builder of 8e8 cells given by n"),
+        "ok_box_by_n": (PB, [(PLATE, "length_z = 0.01, n = [10, 10, 1] }")], "-", "ok", "box builder given its cells"),
+        "ok_shell_structure": (S2, [SHELL], "-", "ok", "the shell builder (its own dof count; a thickness passed before gave a TypeError)"),
+    }
+
+
+DATA_STRUCTURES = {
+    # plate_on_block: the block spans z in [-0.0495, 0.0005], the plate [0, 0.01]
+    "inside_block.csv": "x,y,z,radius,T\n-0.03,-0.03,0.015,0.005,800\n0.0,0.0,-0.02,0.005,800\n",
+    "cut_by_plate.csv": "x,y,z,radius,T\n-0.03,-0.03,0.015,0.005,800\n0.01,0.01,0.012,0.005,800\n",
+}
