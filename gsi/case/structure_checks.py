@@ -24,7 +24,7 @@ import numpy as np
 
 from gsi.errors import GsiInputError
 
-__all__ = ["check_structures", "GRID"]
+__all__ = ["check_structures", "possible_centres", "GRID"]
 
 #: points per side of the grid of possible centres of a random fill or a stream
 GRID = 24
@@ -55,7 +55,7 @@ def check_structures(case) -> None:
             _check_particles(case, k, st, fp)
 
 
-def _possible_centres(p, r: float) -> np.ndarray:
+def possible_centres(p, r: float) -> np.ndarray:
     """Grid points of the region where a particle of radius ``r`` may be centred."""
     lo, hi = p.region.bounds()
     lo, hi = np.asarray(lo, float) + r, np.asarray(hi, float) - r
@@ -79,7 +79,7 @@ def _check_particles(case, k: int, st, fp) -> None:
             key, what = f"particles[{i}].region", "lattice site"
         else:
             r0 = case.source_smallest_radius(i)
-            x = _possible_centres(p, r0)
+            x = possible_centres(p, r0)
             r = np.full(len(x), r0)
             key, what = f"particles[{i}].region", "possible centre"
         near = ((x >= fp.lo - r[:, None]) & (x <= fp.hi + r[:, None])).all(1)

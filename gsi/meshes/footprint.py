@@ -351,6 +351,9 @@ def _probe(path: str, stamp: int, params: tuple):
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
+        # no "very large mesh: do you really want to continue?" prompt on stdout (it
+        # waits for an answer in a terminal)
+        gmsh.option.setNumber("General.ExpertMode", 1)
         gmsh.onelab.clear()
         if path.suffix.lower() == ".geo" and params:
             gmsh.open(str(path))

@@ -128,6 +128,8 @@ def spec_structures(H, B, T, K, S2, PB) -> dict:
     (a .geo), T thermal_silo (silo), K kiln (drum), S2 two_structures (hopper + membrane),
     PB plate_on_block (two boxes, a particle file)."""
     MEM = 'mesh = "membrane"\ngeometry'
+    CONE_FILL = ('fill = "random"\ncount = 2000\nsize = { kind = "single", radius = 0.01 }\n'
+                 'region = { kind = "cylinder", centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4 }')
     HOP = 'translate = [0.0, 0.0, 0.3]'
     BELT = 'tags = { contact = "belt_top"'
     MSH = (B, [('file = "../../../meshes/belt.geo"', 'file = "data/belt.msh"'),
@@ -163,6 +165,12 @@ def spec_structures(H, B, T, K, S2, PB) -> dict:
         "box_n_huge": (PB, [(PLATE, "length_z = 0.01, n = [2000, 2000, 200] }")], "structures[0].geometry.n", "check", "box builder of 8e8 cells given by n"),
         "ok_box_by_n": (PB, [(PLATE, "length_z = 0.01, n = [10, 10, 1] }")], "-", "ok", "box builder given its cells"),
         "ok_shell_structure": (S2, [SHELL], "-", "ok", "the shell builder (its own dof count; a thickness passed before gave a TypeError)"),
+        # ---- random fills and particle files against shaped walls (lattices were checked)
+        "random_fill_through_cone": (H, [("centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4", "centre = [0.0, 0.0, 0.31], radius = 0.19, length = 0.5")], "particles[0].region", "check", "a random fill through the cone and its gate"),
+        "random_fill_through_funnel": (B, [("centre = [0.0, 0.0, 0.45], radius = 0.14", "centre = [0.0, 0.0, 0.3], radius = 0.14")], "particles[0].region", "check", "a random fill through the funnel's cone"),
+        "file_row_cut_by_cone": (H, [(CONE_FILL, 'fill = "file"\nfile = "data/cone_cut.csv"'), ("particles = [ { count = 400 } ]", "")], "particles[0].file", "check", "a particle file row on the cone's surface"),
+        "ok_file_rows_inside_cone": (H, [(CONE_FILL, 'fill = "file"\nfile = "data/cone_ok.csv"'), ("particles = [ { count = 400 } ]", "")], "-", "ok", "particle file rows inside the cone"),
+        "ok_random_fill_above_cone": (H, [("centre = [0.0, 0.0, 0.56], radius = 0.19", "centre = [0.0, 0.0, 0.62], radius = 0.3"), ("radius = 0.3, length = 0.4", "radius = 0.3, length = 0.35")], "-", "ok", "a random fill wider than the cone, wholly above its rim"),
     }
 
 
@@ -170,4 +178,7 @@ DATA_STRUCTURES = {
     # plate_on_block: the block spans z in [-0.0495, 0.0005], the plate [0, 0.01]
     "inside_block.csv": "x,y,z,radius,T\n-0.03,-0.03,0.015,0.005,800\n0.0,0.0,-0.02,0.005,800\n",
     "cut_by_plate.csv": "x,y,z,radius,T\n-0.03,-0.03,0.015,0.005,800\n0.01,0.01,0.012,0.005,800\n",
+    # hopper_membrane's cone: radius 0.07 + (z - 0.3) 0.17/0.3, i.e. 0.155 at z = 0.45
+    "cone_cut.csv": "x,y,z,radius\n0.0,0.0,0.45,0.01\n0.155,0.0,0.45,0.01\n",
+    "cone_ok.csv": "x,y,z,radius\n0.0,0.0,0.45,0.01\n0.1,0.0,0.45,0.01\n",
 }
