@@ -38,6 +38,12 @@ MEMORY_FACTOR = 4.0
 WARN_WALL_S = 6 * 3600.0
 #: a warning when the FE set-up needs more dofs than this
 WARN_DOFS = 200_000
+#: the extrapolation's replay, seconds per particle and logged sample (every x dt):
+#: benchmarks/results drum_extrapolation, 5,000 particles, a turn of 3150 samples
+#: replayed in 0.0213 s (1.35e-9; 80,000 particles: 7.9e-10)
+REPLAY_S_PER_PARTICLE_SAMPLE = 1.35e-9
+#: a replay estimated above this (s) is refused (a slip in the period count)
+MAX_REPLAY_S = 30 * 86400.0
 
 
 def _memory_bytes() -> float:
@@ -88,7 +94,12 @@ def estimate(case, dt: float) -> dict:
     est = dict(particles=n, steps=steps, outputs=d / case.output.interval,
                checkpoints=d / max(ck, dt) if ck > 0 else 0.0,
                wall_s=max(n, 1) * steps / PARTICLE_STEPS_PER_S,
-               memory=n * BYTES_PER_PARTICLE, dofs={})
+               memory=n * BYTES_PER_PARTICLE, dofs={}, replay_s=0.0)
+    ex = case.extrapolation
+    if ex is not None:
+        samples = ex.periods * ex.period / (ex.every * dt)
+        est["replay_s"] = max(n, 1) * samples * REPLAY_S_PER_PARTICLE_SAMPLE
+        est["wall_s"] += est["replay_s"]
     for i, st in enumerate(case.structures):
         got = structure_dofs(st, case.base_dir) if st.has_elasticity or st.has_heat else None
         if got is not None:
@@ -155,6 +166,18 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
         if dofs > WARN_DOFS and not quick:
             said.append(f"{key}: about {dofs:.3g} FE dofs ({how}): expect about "
                         f"{need / 1e9:.3g} GB and {_hours(dofs * FE_SETUP_S_PER_DOF)} of set-up")
+    ex = case.extrapolation
+    if ex is not None:
+        if ex.cells > max(est["particles"], 1):
+            raise GsiInputError(f"{q}extrapolation.cells = {ex.cells}: more Voronoi cells than "
+                                f"the {est['particles']:.3g} particles; each cell of the eq. 9 "
+                                f"error needs particles: use at most a tenth of them")
+        if est["replay_s"] > MAX_REPLAY_S:
+            raise GsiInputError(
+                f"{q}extrapolation.periods = {ex.periods}: the replay of {ex.periods:.3g} "
+                f"periods of {est['particles']:.3g} particles takes about "
+                f"{_hours(est['replay_s'])} (limit {_hours(MAX_REPLAY_S)}); check the "
+                f"period count (periods x period = {ex.periods * ex.period:.3g} s)")
     dem_bytes = est["particles"] * BYTES_PER_PARTICLE
     if dem_bytes > MEMORY_FACTOR * mem:
         raise GsiInputError(f"{q}particles: about {est['particles']:.3g} particles need about "

@@ -165,6 +165,9 @@ def spec_structures(H, B, T, K, S2, PB) -> dict:
         "box_n_huge": (PB, [(PLATE, "length_z = 0.01, n = [2000, 2000, 200] }")], "structures[0].geometry.n", "check", "box builder of 8e8 cells given by n"),
         "ok_box_by_n": (PB, [(PLATE, "length_z = 0.01, n = [10, 10, 1] }")], "-", "ok", "box builder given its cells"),
         "ok_shell_structure": (S2, [SHELL], "-", "ok", "the shell builder (its own dof count; a thickness passed before gave a TypeError)"),
+        # ---- the extrapolation's sizes (kiln: 2 h of 0.5 s periods replayed)
+        "kiln_periods_1e12": (K, [("periods = 14400 ", "periods = 1000000000000 ")], "extrapolation.periods", "check", "1e12 periods replayed: about 1e5 h (ran until killed)"),
+        "kiln_cells_1e9": (K, [("cells = 200\n", "cells = 1000000000\n")], "extrapolation.cells", "check", "1e9 Voronoi cells for 640 particles"),
         # ---- random fills and particle files against shaped walls (lattices were checked)
         "random_fill_through_cone": (H, [("centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4", "centre = [0.0, 0.0, 0.31], radius = 0.19, length = 0.5")], "particles[0].region", "check", "a random fill through the cone and its gate"),
         "random_fill_through_funnel": (B, [("centre = [0.0, 0.0, 0.45], radius = 0.14", "centre = [0.0, 0.0, 0.3], radius = 0.14")], "particles[0].region", "check", "a random fill through the funnel's cone"),
