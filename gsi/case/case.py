@@ -286,6 +286,7 @@ class Case:
                                     f"shorter")
         case_checks.check_skin(self)
         case_checks.check_stiffness(self)
+        case_checks.check_wall_speeds(self)
         case_checks.check_placed_overlaps(self)
         input_checks.check_geometry(self)
         dt = self.time_step()

@@ -121,12 +121,12 @@ DATA_BYTES = {
 }
 
 
-def spec_structures(H, B, T, K, S2, PB) -> dict:
+def spec_structures(H, B, T, K, S2, PB, D) -> dict:
     """FE structures: where their bodies lie (outside the domain, through the particles
     placed at the start) and the size of their meshes (every builder and gmsh file gets an
     estimate in ``gsi check``). Bases: H hopper_membrane (membrane builder), B belt_hopper
     (a .geo), T thermal_silo (silo), K kiln (drum), S2 two_structures (hopper + membrane),
-    PB plate_on_block (two boxes, a particle file)."""
+    PB plate_on_block (two boxes, a particle file), D drum (an STL wall turning at 10 rpm)."""
     MEM = 'mesh = "membrane"\ngeometry'
     CONE_FILL = ('fill = "random"\ncount = 2000\nsize = { kind = "single", radius = 0.01 }\n'
                  'region = { kind = "cylinder", centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4 }')
@@ -165,6 +165,11 @@ def spec_structures(H, B, T, K, S2, PB) -> dict:
         "box_n_huge": (PB, [(PLATE, "length_z = 0.01, n = [2000, 2000, 200] }")], "structures[0].geometry.n", "check", "box builder of 8e8 cells given by n"),
         "ok_box_by_n": (PB, [(PLATE, "length_z = 0.01, n = [10, 10, 1] }")], "-", "ok", "box builder given its cells"),
         "ok_shell_structure": (S2, [SHELL], "-", "ok", "the shell builder (its own dof count; a thickness passed before gave a TypeError)"),
+        # ---- walls moving faster than the particles' stiffness allows (the overlap of a
+        # particle hit at the wall's surface speed, as the stiffness check for free fall)
+        "drum_rpm_1e6": (D, [("rpm = 10.0 }", "rpm = 1.0e6 }")], "walls[0].motion.rpm", "check", "a drum at 1e6 rpm (1e4 m/s at its wall)"),
+        "gate_velocity_2000": (H, [("velocity = [2.0, 0.0, 0.0]", "velocity = [2000.0, 0.0, 0.0]")], "walls[1].motion.events[0].velocity", "check", "a gate opening at 2 km/s (mm/s typed as m/s)"),
+        "ok_drum_rpm_60": (D, [("rpm = 10.0 }", "rpm = 60.0 }")], "-", "ok", "a drum at 60 rpm"),
         # ---- the extrapolation's sizes (kiln: 2 h of 0.5 s periods replayed)
         "kiln_periods_1e12": (K, [("periods = 14400 ", "periods = 1000000000000 ")], "extrapolation.periods", "check", "1e12 periods replayed: about 1e5 h (ran until killed)"),
         "kiln_cells_1e9": (K, [("cells = 200\n", "cells = 1000000000\n")], "extrapolation.cells", "check", "1e9 Voronoi cells for 640 particles"),
