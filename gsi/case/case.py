@@ -284,6 +284,7 @@ class Case:
                 raise GsiInputError(f"quick.run.duration = {q.run.duration}: longer than "
                                     f"run.duration = {self.run.duration} (s); --quick must be "
                                     f"shorter")
+        case_checks.check_gravity(self)
         case_checks.check_skin(self)
         case_checks.check_stiffness(self)
         case_checks.check_wall_speeds(self)

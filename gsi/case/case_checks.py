@@ -18,6 +18,20 @@ MAX_SKIN = 4.0
 #: fraction of the radius (a softer material lets particles pass through each other)
 MAX_IMPACT_OVERLAP = 0.5
 
+#: gravity above this (m/s^2, about 200 g: a geotechnical centrifuge) is a unit slip
+MAX_GRAVITY = 2000.0
+
+
+def check_gravity(case) -> None:
+    """|g| above MAX_GRAVITY: mm/s^2 typed for m/s^2 (9810 for 9.81)."""
+    g = float(np.linalg.norm(case.dem.gravity))
+    if g > MAX_GRAVITY:
+        raise GsiInputError(
+            f"dem.gravity = {list(case.dem.gravity)}: |g| = {g:.4g} m/s^2, over "
+            f"{MAX_GRAVITY:g} (about 200 g); did you give mm/s^2? ({g:.4g} mm/s^2 = "
+            f"{g / 1000:.4g} m/s^2)")
+
+
 def check_skin(case) -> None:
     """A Verlet skin above MAX_SKIN largest radii (or the domain) is a unit slip: every
     particle would list every other as a neighbour."""
@@ -60,6 +74,15 @@ def check_stiffness(case) -> None:
         delta = (15.0 * m_star * v ** 2 / (16.0 * e_star * math.sqrt(0.5 * r))) ** 0.4
         if delta > MAX_IMPACT_OVERLAP * r:
             need = mat.E * (delta / (0.1 * r)) ** 2.5
+            v0 = float(np.linalg.norm(p.velocity))
+            if v0 > 0.5 * v:        # the initial speed, not the fall, makes it: name it
+                v_ok = v * (MAX_IMPACT_OVERLAP * r / delta) ** 1.25 - (v - v0)
+                raise GsiInputError(
+                    f"particles[{i}].velocity = {list(p.velocity)}: particles (radius {r:g} "
+                    f"m) meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their "
+                    f"radius and pass through each other (materials.{p.material}.E = "
+                    f"{mat.E:g}); use a speed below about {max(v_ok, 0.0):.3g} m/s (m/s, not "
+                    f"mm/s?) or E >= {need:.3g} Pa")
             raise GsiInputError(
                 f"materials.{p.material}.E = {mat.E:g}: too soft; particles[{i}] (radius "
                 f"{r:g} m) meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their "

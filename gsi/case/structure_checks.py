@@ -2,6 +2,7 @@
 :class:`gsi.meshes.footprint.Footprint` (the body a builder or a gmsh file will mesh, known
 without meshing it):
 
+* a surface traction above the structure's Young's modulus (a strain over 100 %);
 * a body over 100 x the domain (a gmsh file's lengths in mm: "did you give mm?");
 * a body wholly outside the domain box (particles never reach it);
 * a body cutting through the particles placed at the start: a particle file's rows or a
@@ -51,8 +52,24 @@ def check_structures(case) -> None:
                 f"({np.round(fp.lo, 6).tolist()} to {np.round(fp.hi, 6).tolist()}) lies wholly "
                 f"outside dem.domain ({dlo.tolist()} to {dhi.tolist()}); particles never "
                 f"touch it: move it (m)")
+        _check_loads(st, key)
         if fp.distance is not None:
             _check_particles(case, k, st, fp)
+
+
+def _check_loads(st, key: str) -> None:
+    """A surface traction above the structure's Young's modulus strains it by more than
+    100 % in linear elasticity: a unit slip (kPa or MPa typed as Pa the other way)."""
+    if not st.loads:
+        return
+    E = st.structural_material().E
+    for j, ld in enumerate(st.loads):
+        t = float(np.linalg.norm(ld.traction))
+        if t > E:
+            raise GsiInputError(
+                f"{key}.loads[{j}].traction = {list(ld.traction)}: {t:.3g} Pa, above the "
+                f"structure's Young's modulus ({E:.3g} Pa): a strain above 100 % in linear "
+                f"elasticity; check the units (Pa)")
 
 
 def possible_centres(p, r: float) -> np.ndarray:

@@ -121,12 +121,13 @@ DATA_BYTES = {
 }
 
 
-def spec_structures(H, B, T, K, S2, PB, D) -> dict:
+def spec_structures(H, B, T, K, S2, PB, D, P) -> dict:
     """FE structures: where their bodies lie (outside the domain, through the particles
     placed at the start) and the size of their meshes (every builder and gmsh file gets an
     estimate in ``gsi check``). Bases: H hopper_membrane (membrane builder), B belt_hopper
     (a .geo), T thermal_silo (silo), K kiln (drum), S2 two_structures (hopper + membrane),
-    PB plate_on_block (two boxes, a particle file), D drum (an STL wall turning at 10 rpm)."""
+    PB plate_on_block (two boxes, a particle file), D drum (an STL wall turning at 10 rpm),
+    P pour."""
     MEM = 'mesh = "membrane"\ngeometry'
     CONE_FILL = ('fill = "random"\ncount = 2000\nsize = { kind = "single", radius = 0.01 }\n'
                  'region = { kind = "cylinder", centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4 }')
@@ -170,6 +171,13 @@ def spec_structures(H, B, T, K, S2, PB, D) -> dict:
         "drum_rpm_1e6": (D, [("rpm = 10.0 }", "rpm = 1.0e6 }")], "walls[0].motion.rpm", "check", "a drum at 1e6 rpm (1e4 m/s at its wall)"),
         "gate_velocity_2000": (H, [("velocity = [2.0, 0.0, 0.0]", "velocity = [2000.0, 0.0, 0.0]")], "walls[1].motion.events[0].velocity", "check", "a gate opening at 2 km/s (mm/s typed as m/s)"),
         "ok_drum_rpm_60": (D, [("rpm = 10.0 }", "rpm = 60.0 }")], "-", "ok", "a drum at 60 rpm"),
+        # ---- errors that named the wrong key before (the material's E)
+        "gravity_in_mm": (P, [("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, -9810.0]")], "dem.gravity", "check", "g in mm/s^2 (refused before as 'glass E too soft')"),
+        "velocity_in_mm": (P, [("velocity = [0.0, 0.0, -0.5]", "velocity = [0.0, 0.0, -500.0]")], "particles[0].velocity", "check", "an initial speed in mm/s (refused before as 'glass E too soft')"),
+        "ok_gravity_centrifuge_50g": (P, [("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, -490.5]"), ("E = 5.0e6", "E = 5.0e8")], "-", "ok", "a centrifuge at 50 g"),
+        # ---- a traction above the structure's modulus
+        "traction_above_E": (H, [('supports = ["support"]   # the clamped rim', 'supports = ["support"]   # the clamped rim\nloads = [ { tag = "contact", traction = [0.0, 0.0, -5.0e9] } ]')], "structures[0].loads[0].traction", "check", "a 5 GPa traction on a rubber membrane (E 2 MPa)"),
+        "ok_traction_500Pa": (H, [('supports = ["support"]   # the clamped rim', 'supports = ["support"]   # the clamped rim\nloads = [ { tag = "contact", traction = [0.0, 0.0, -500.0] } ]')], "-", "ok", "a 500 Pa traction on the membrane"),
         # ---- the extrapolation's sizes (kiln: 2 h of 0.5 s periods replayed)
         "kiln_periods_1e12": (K, [("periods = 14400 ", "periods = 1000000000000 ")], "extrapolation.periods", "check", "1e12 periods replayed: about 1e5 h (ran until killed)"),
         "kiln_cells_1e9": (K, [("cells = 200\n", "cells = 1000000000\n")], "extrapolation.cells", "check", "1e9 Voronoi cells for 640 particles"),

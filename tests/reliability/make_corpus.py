@@ -185,7 +185,7 @@ DATA = {
 from corpus_careful import DATA as DATA_CAREFUL, DATA_BYTES, DATA_STRUCTURES, spec, spec_structures  # noqa: E402
 
 SPEC.update(spec(P, D, H, B, T, PLANE, FILE_SRC))
-SPEC.update(spec_structures(H, B, T, K, S2, PB, D))
+SPEC.update(spec_structures(H, B, T, K, S2, PB, D, P))
 DATA.update(DATA_CAREFUL)
 DATA.update(DATA_STRUCTURES)
 
