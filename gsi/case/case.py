@@ -284,10 +284,8 @@ class Case:
                 raise GsiInputError(f"quick.run.duration = {q.run.duration}: longer than "
                                     f"run.duration = {self.run.duration} (s); --quick must be "
                                     f"shorter")
-        case_checks.check_gravity(self)
         case_checks.check_skin(self)
-        case_checks.check_stiffness(self)
-        case_checks.check_wall_speeds(self)
+        case_checks.check_speeds(self)
         case_checks.check_placed_overlaps(self)
         input_checks.check_geometry(self)
         dt = self.time_step()

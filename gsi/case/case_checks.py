@@ -32,6 +32,14 @@ def check_gravity(case) -> None:
             f"{g / 1000:.4g} m/s^2)")
 
 
+def check_speeds(case) -> None:
+    """Gravity's magnitude, then the particles' stiffness against the speeds they meet
+    each other (:func:`check_stiffness`) and the moving walls (:func:`check_wall_speeds`)."""
+    check_gravity(case)
+    check_stiffness(case)
+    check_wall_speeds(case)
+
+
 def check_skin(case) -> None:
     """A Verlet skin above MAX_SKIN largest radii (or the domain) is a unit slip: every
     particle would list every other as a neighbour."""

@@ -2,6 +2,7 @@
 :class:`gsi.meshes.footprint.Footprint` (the body a builder or a gmsh file will mesh, known
 without meshing it):
 
+* a builder's values it would refuse only when meshing (an outlet wider than the top);
 * a surface traction above the structure's Young's modulus (a strain over 100 %);
 * a body over 100 x the domain (a gmsh file's lengths in mm: "did you give mm?");
 * a body wholly outside the domain box (particles never reach it);
@@ -37,10 +38,14 @@ def check_structures(case) -> None:
     dlo, dhi = np.asarray(case.dem.domain_lo, float), np.asarray(case.dem.domain_hi, float)
     size = float(np.max(dhi - dlo))
     for k, st in enumerate(case.structures):
-        fp = structure_footprint(st, case.base_dir)
+        key = f"structures[{k}]"
+        try:
+            fp = structure_footprint(st, case.base_dir)
+        except GsiInputError as exc:     # the builder's own words, the case's key
+            raise GsiInputError(str(exc).replace(f"structure.{st.mesh}.",
+                                                 f"{key}.geometry.")) from None
         if fp is None:
             continue
-        key = f"structures[{k}]"
         if st.file is not None and fp.extent > 100 * size:
             raise GsiInputError(
                 f"{key}.{'geometry' if st.geometry else 'file'}: the structure is "

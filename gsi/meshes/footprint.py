@@ -164,9 +164,24 @@ def _cone_wall(r0, R, height, t):
 
 
 def of_builder(name: str, geometry: dict, translate=(0.0, 0.0, 0.0)) -> Footprint:
-    """The body the builder ``name`` makes from ``geometry`` (validated values, m)."""
+    """The body the builder ``name`` makes from ``geometry`` (validated values, m).
+    Raises the builder's own one-line GsiInputError (``structure.<name>.<key>``) for
+    values it would refuse when meshing (shape names, an outlet wider than the top,
+    a layer count that is not a whole number)."""
+    from gsi.errors import GsiInputError
+    from gsi.meshes._common import check_less
     p = _params(name, geometry)
     h = p.get("h")
+    if name == "membrane" and p["shape"] not in ("rectangle", "circle"):
+        raise GsiInputError(f"structure.membrane.shape = {p['shape']!r}: must be 'rectangle' "
+                            "or 'circle'")
+    if name == "silo" and p["bottom"] not in ("flat", "conical"):
+        raise GsiInputError(f"structure.silo.bottom = {p['bottom']!r}: must be 'flat' or "
+                            "'conical'")
+    if name == "hopper":
+        check_less("hopper", "outlet_radius", p["outlet_radius"], "top_radius", p["top_radius"])
+    if name == "shell" or (name == "silo" and p["bottom"] == "conical"):
+        check_less(name, "outlet_radius", p["outlet_radius"], "radius", p["radius"])
     words = f"the '{name}' builder's body, h = {h:g} m" if h is not None else ""
     if name == "box":
         L = np.array([p["length_x"], p["length_y"], p["length_z"]], float)

@@ -156,6 +156,9 @@ def spec_structures(H, B, T, K, S2, PB, D, P) -> dict:
         "membrane_outside_domain": (H, [(MEM, 'mesh = "membrane"\ntranslate = [0.0, 0.0, 5.0]\ngeometry')], "structures[0].translate", "check", "a builder's membrane 5 m above the domain"),
         "kiln_shell_outside_domain": (K, [(KILN_MESH, KILN_MESH + "\ntranslate = [1.0, 0.0, 0.0]")], "structures[0].translate", "check", "the drum builder's shell 1 m beside the domain"),
         "msh_in_mm": (B, [('file = "../../../meshes/belt.geo"', 'file = "data/belt_mm.msh"'), ("geometry = { length = 0.8, width = 0.3, thickness = 0.02, h = 0.06, layers = 1 }\n", "")], "structures[0].file", "check", "a .msh written in mm: 800 m across"),
+        # ---- a builder's values refused only when meshing before (at the run's start)
+        "hopper_structure_outlet_wider": (S2, [("top_radius = 0.24, outlet_radius = 0.07, height = 0.3", "top_radius = 0.24, outlet_radius = 0.3, height = 0.3")], "structures[0].geometry.outlet_radius", "check", "a hopper structure whose outlet is wider than its top"),
+        "membrane_shape_misspelt": (H, [('shape = "circle"', 'shape = "circel"')], "structures[0].geometry.shape", "check", "a misspelt membrane shape"),
         # ---- the mesh size of every builder
         "membrane_h_tiny": (H, [("h = 0.06, n_thickness", "h = 0.0002, n_thickness")], "structures[0].geometry.h", "check", "membrane builder at h = 0.2 mm: 3e8 dofs"),
         "membrane_h_5mm_warns": (H, [("h = 0.06, n_thickness", "h = 0.005, n_thickness")], "structures[0].geometry.h", "warn", "membrane builder at h = 5 mm: about 5e5 dofs"),
