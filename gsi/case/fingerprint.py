@@ -5,7 +5,8 @@ The fingerprint is the case as flat ``{key path: value}`` (``materials.glass.mu:
 ``particles[0].count: 2000``), without the keys that do not change the physics of the
 remaining run (:data:`FREE`: progress lines, threads, checkpoint and picture options, the
 description). The files the case references (``.file`` keys: particle files, mesh walls,
-gmsh structures) count by their contents: ``<key> (contents)`` holds the file's SHA-256, so
+gmsh structures, with the files a ``.geo`` includes or merges) count by their contents:
+``<key> (contents)`` holds the file's SHA-256, so
 an edited file is a change although its name is the same. A checkpoint written before the
 contents were fingerprinted lacks those keys; they are not compared then."""
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import hashlib
 import json
 import pathlib
+import re
 
 __all__ = ["fingerprint", "changes", "check_resume", "FREE", "CONTENTS"]
 
@@ -51,15 +53,23 @@ def fingerprint(case) -> dict:
 CONTENTS = " (contents)"
 
 
-def _digest(path: pathlib.Path) -> str:
-    """``sha256:<hex>`` of a file's bytes, or ``(no such file)``."""
+#: the files a gmsh script reads: ``Include "x.geo";``, ``Merge "y.step";``
+_GEO_READS = re.compile(rb'^\s*(?:Include|Merge)\s*"([^"]+)"', re.MULTILINE)
+
+
+def _digest(path: pathlib.Path, depth: int = 0) -> str:
+    """``sha256:<hex>`` of a file's bytes (a ``.geo``: with the files it includes or
+    merges, to 3 levels), or ``(no such file)``."""
     h = hashlib.sha256()
     try:
         with path.open("rb") as fh:
-            for block in iter(lambda: fh.read(1 << 20), b""):
-                h.update(block)
+            data = fh.read()
     except OSError:
         return "(no such file)"
+    h.update(data)
+    if path.suffix.lower() == ".geo" and depth < 3:
+        for name in _GEO_READS.findall(data):
+            h.update(_digest(path.parent / name.decode("utf-8", "replace"), depth + 1).encode())
     return "sha256:" + h.hexdigest()
 
 

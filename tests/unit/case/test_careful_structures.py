@@ -202,3 +202,16 @@ def test_editing_a_referenced_file_is_a_change_on_resume(tmp_path):
     # a manifest written before the contents were fingerprinted: not compared
     older = {k: v for k, v in first.items() if not k.endswith(" (contents)")}
     assert changes(older, fingerprint(case)) == []
+
+
+def test_a_file_a_geo_includes_counts_in_the_fingerprint(tmp_path):
+    (tmp_path / "sizes.geo").write_text("h = 0.06;\n")
+    geo = BELT.read_text().replace('SetFactory("OpenCASCADE");',
+                                   'SetFactory("OpenCASCADE");\nInclude "sizes.geo";')
+    (tmp_path / "belt.geo").write_text(geo)
+    t = tomllib.loads((DEMOS / "belt_hopper.toml").read_text())
+    t["structures"][0]["file"] = "belt.geo"
+    first = fingerprint(case_from_table(copy.deepcopy(t), base_dir=tmp_path))
+    (tmp_path / "sizes.geo").write_text("h = 0.05;\n")
+    again = fingerprint(case_from_table(t, base_dir=tmp_path))
+    assert changes(first, again) == ["structures[0].file (contents): the file was edited"]
