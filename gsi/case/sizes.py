@@ -8,7 +8,10 @@ the DEM moves about :data:`PARTICLE_STEPS_PER_S` particle-steps per second on on
 and holds about :data:`BYTES_PER_PARTICLE` (settle_scale: 6.5e6-9.9e6 particle-steps/s,
 493 bytes per particle); a P2 structure of 1e6 dofs took 6.8 GB and 31 min of set-up
 out of core on 2 ranks (fe_scale), 1e5 dofs 1.3 GB in memory (:data:`FE_BYTES_PER_DOF`,
-:data:`FE_SETUP_S_PER_DOF`). They are orders of magnitude, said as such ("about")."""
+:data:`FE_SETUP_S_PER_DOF`). They are orders of magnitude, said as such ("about").
+The dofs of every structure (each builder, a ``.geo`` or ``.msh`` file) come from its
+:class:`gsi.meshes.footprint.Footprint`, the body known before it is meshed; the
+extrapolation's replay from :data:`REPLAY_S_PER_PARTICLE_SAMPLE`."""
 from __future__ import annotations
 
 import math
