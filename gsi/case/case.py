@@ -81,6 +81,7 @@ from gsi.case import case_checks  # noqa: E402
 from gsi.case.case_checks import MAX_IMPACT_OVERLAP, MAX_SKIN  # noqa: E402,F401
 from gsi.case import input_checks, sizes  # noqa: E402
 from gsi.case.input_checks import check_output_names  # noqa: E402
+from gsi.case.structure_checks import check_structures  # noqa: E402
 #: more particles than this in one case is refused before any allocation
 MAX_PARTICLES = 20_000_000
 
@@ -286,7 +287,7 @@ class Case:
                                     f"run.duration = {self.run.duration} (s); --quick must be "
                                     f"shorter")
         case_checks.check_skin(self)
-        case_checks.check_stiffness(self)
+        case_checks.check_speeds(self)
         case_checks.check_placed_overlaps(self)
         input_checks.check_geometry(self)
         dt = self.time_step()
@@ -327,6 +328,7 @@ class Case:
         dom = dict(domain_lo=self.dem.domain_lo, domain_hi=self.dem.domain_hi)
         for i, p in enumerate(self.particles):
             p.check(f"particles[{i}]", base_dir=self.base_dir, **dom)
+        check_structures(self)
         case_checks.check_skin(self)
         case_checks.check_stiffness(self)
         case_checks.check_placed_overlaps(self)

@@ -22,11 +22,13 @@ def _base(name: str) -> str:
         lines.pop(0)
     text = "\n".join(lines) + "\n"
     return (text.replace('"data/drum.stl"', '"../../../demos/data/drum.stl"')
-            .replace('"../meshes/belt.geo"', '"../../../meshes/belt.geo"'))
+            .replace('"../meshes/belt.geo"', '"../../../meshes/belt.geo"')
+            .replace('"data/plate_particles.csv"', '"../../../demos/data/plate_particles.csv"'))
 
 
 P, D, H, B, T, R = (_base(n) for n in ("pour", "drum", "hopper_membrane", "belt_hopper",
                                        "thermal_silo", "thermal_silo_radiation"))
+K, S2, PB = (_base(n) for n in ("kiln", "two_structures", "plate_on_block"))
 STREAM = P.replace('fill = "random"\ncount = 2000', 'fill = "stream"\nrate = 20000.0\nmax_count = 2000')
 PLANE = '\n[[walls]]\nname = "floor"\nkind = "plane"\nmaterial = "glass"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n'
 FILE_SRC = P.replace('fill = "random"\ncount = 2000\nvelocity = [0.0, 0.0, -0.5]\nsize = { kind = "uniform", min = 0.0018, max = 0.0022 }\nregion = { kind = "box", lo = [0.0, 0.0, 0.05], hi = [0.06, 0.06, 0.15] }',
@@ -191,10 +193,36 @@ DATA = {
 }
 
 
-from corpus_careful import DATA as DATA_CAREFUL, DATA_BYTES, spec  # noqa: E402
+from corpus_careful import DATA as DATA_CAREFUL, DATA_BYTES, DATA_STRUCTURES, spec, spec_structures  # noqa: E402
 
 SPEC.update(spec(P, D, H, B, T, PLANE, FILE_SRC))
+SPEC.update(spec_structures(H, B, T, K, S2, PB, D, P))
 DATA.update(DATA_CAREFUL)
+DATA.update(DATA_STRUCTURES)
+
+
+def _write_msh(path: pathlib.Path, scale: float) -> None:
+    """meshes/belt.geo meshed coarsely (h = 0.1 m) as an ASCII .msh; ``scale`` 1000 writes
+    it in mm (a unit slip)."""
+    import gmsh
+    geo = HERE.parents[1] / "meshes" / "belt.geo"
+    values = dict(length=0.8, width=0.3, thickness=0.02, h=0.1)
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(str(geo))
+        for n in gmsh.onelab.getNames():
+            last = n.rsplit("/", 1)[-1]
+            if last in values:
+                gmsh.onelab.setNumber(n, [values[last] * scale])
+        gmsh.clear()
+        gmsh.open(str(geo))
+        gmsh.model.mesh.generate(3)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.option.setNumber("Mesh.Binary", 0)
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
 
 
 def main() -> None:
@@ -206,6 +234,8 @@ def main() -> None:
         (CASES / "data" / name).write_text(text)
     for name, raw in DATA_BYTES.items():
         (CASES / "data" / name).write_bytes(raw)
+    _write_msh(CASES / "data" / "belt.msh", 1.0)
+    _write_msh(CASES / "data" / "belt_mm.msh", 1000.0)
     for name, (base, edits, key, via, what) in SPEC.items():
         text = base
         for old, new in edits:
