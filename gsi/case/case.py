@@ -57,7 +57,6 @@ from typing import Any, Optional
 
 import numpy as np
 
-from gsi.case.driven_motion import check_servo_gains
 from gsi.case.extrapolation import Extrapolation
 from gsi.case.materials import Material, Pair
 from gsi.case.monitors import Monitor
@@ -294,7 +293,6 @@ class Case:
         case_checks.check_streams(self, dt)
         case_checks.check_radiation(self, dt)
         input_checks.check_stability(self, dt)
-        check_servo_gains(self, dt)
         if self.extrapolation is not None:
             self.extrapolation.check(dt=dt, duration=self.run.duration, heat=self.dem.heat,
                                      structures=self.structures)

@@ -315,9 +315,12 @@ def check_geometry(case) -> None:
 
 
 def check_stability(case, dt: float) -> None:
-    """The stability bounds known before the run (heat update, very high friction)."""
+    """The stability bounds known before the run (heat update, very high friction, a
+    servo wall's gain: :func:`gsi.case.driven_motion.check_servo_gains`)."""
+    from gsi.case.driven_motion import check_servo_gains
     check_heat_stability(case, dt)
     check_friction_stability(case, dt)
+    check_servo_gains(case, dt)
 
 
 def check_lengths(case) -> None:
