@@ -5,8 +5,11 @@ an ensemble (tests/validation/conftest.py).
 Default suite: the quick drum of demos/drum_extrapolation.toml -- 640 particles in
 R = 0.06 m at the reference Froude number 0.048 (cascading), settled 0.5 s, a quarter
 turn (5,590 steps) as the period (the seed extrapolates by quarter, half and full turns,
-its Figs. 13-15), sampling n = 10 with Delta t_c^max = 0.01 s. (The demo itself, through
-``gsi run`` and its ``extrapolation.csv``, is run by tests/demos/test_demos.py.)
+its Figs. 13-15), sampling n = 10 with Delta t_c^max = 0.01 s. The demo's case itself
+runs once through ``gsi run``'s runner in its quick form, with the reference DEM cut to
+one period (``compare_periods = 1``; the replay still runs six): its ``extrapolation.csv``
+and ``contact_log.npz`` are checked for what holds on any trajectory (conservation, the
+log's wall rows).
 
 The flow is chaotic: one trajectory is one sample, and a change of summation order gives
 another (the single-run form of this test failed on a faster CPU, its hot/cold gap
@@ -44,15 +47,21 @@ The seed's Table 5 (80,000 particles, 400 per cell: eps_abs 0.241 ... 0.03 K, ep
 <= 3.1 %) is shown as the goal on the validation page; at 640 particles (3 per cell)
 eps_abs is 3-5 K, set by the particle-scale scatter that the twin DEM shows as well.
 """
+import dataclasses
 import pathlib
 
 import numpy as np
 import pytest
 
+from gsi.case import load_case
+from gsi.dem.contact_log import ContactLog
+from gsi.run import run_case
+
 from gsi.studies.drum import DT, drum_geometry, prepare
 from gsi.extrapolation import Replay, compare_with_dem, period_errors, voronoi_seeds
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+CASE = ROOT / "demos" / "drum_extrapolation.toml"
 M, PERIODS = 4, 3
 #: sd floors (conftest): about the smallest member spreads measured on four ensembles
 #: (M = 3 and 4, at dt and dt (1 + 1e-12), 2026-12-04: sd 0.25-0.70 K, 0.005-0.024,
@@ -197,16 +206,43 @@ def test_heat_moved_per_period_eq10(ensemble, ens, record_validation):
     assert s.upper() <= 0.25, s.text()
 
 
-def test_log_records_wall_contacts_with_their_triangles(ensemble, tmp_path):
-    g, members, case = ensemble
-    log = members[0]["run"]["log"]
+@pytest.fixture(scope="module")
+def demo_run(tmp_path_factory):
+    """demos/drum_extrapolation.toml, quick, through the runner; one period of reference."""
+    out = tmp_path_factory.mktemp("drum_extrapolation")
+    case = load_case(CASE).quick_variant()
+    xp = dataclasses.replace(case.extrapolation, compare_periods=1)
+    case.extrapolation = xp
+    case.run = dataclasses.replace(case.run, duration=xp.end())
+    r = run_case(case, out=out, pictures=False, verbose=False)
+    csv = np.genfromtxt(out / "extrapolation.csv", delimiter=",", names=True)
+    return case, r, out, csv, ContactLog.load(out / "contact_log.npz")
+
+
+def test_the_demo_case_writes_a_conserving_extrapolation(demo_run):
+    case, r, out, csv, log = demo_run
+    assert r.n_particles == 640 and r.n_lost == 0
+    assert len(csv) == 7 and (log.every, log.split) == (10, 100)
+    assert log.period == pytest.approx(drum_geometry(640).steps_per_turn // 4 * DT)
+    assert csv["energy_drift"][:2].max() <= 1e-12
+    E0 = log.heat_capacity @ log.T0
+    assert abs(log.heat_capacity @ log.T1 - E0) <= 1e-12 * abs(E0)
+    Tm = csv["T_mean_extra"]
+    assert np.abs(Tm - Tm[0]).max() <= 1e-12 * abs(Tm[0])
+    np.testing.assert_allclose(csv["T_mean_dem"][:2], Tm[:2], rtol=1e-12)
+    assert np.isnan(csv["T_mean_dem"][2:]).all()              # one period of reference
+    gap = csv["T_hot_extra"] - csv["T_cold_extra"]
+    assert (np.diff(gap) < 0).all()                             # the replay mixes the halves
+
+
+def test_log_records_wall_contacts_with_their_triangles(demo_run):
+    case, _, out, _, log = demo_run
     n_tri = len(case.walls[0].triangles())
     assert len(log.pw_i) > 0 and (log.pw_wall == 0).all()       # the drum, a mesh wall
     assert log.pw_tri.min() >= 0 and log.pw_tri.max() < n_tri
     assert not log.wall_has_T.any()                             # adiabatic
     assert log.bytes_per_collision() < 20.0
-    size = log.save(tmp_path / "contact_log.npz")
-    assert size > log.row_bytes()
+    assert (out / "contact_log.npz").stat().st_size > log.row_bytes()
 
 
 @pytest.mark.slow
