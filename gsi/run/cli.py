@@ -183,6 +183,8 @@ def _check(args) -> int:
     case = load_case(args.case)
     dt = case.check()
     est = summary(estimate(case, dt))
+    from gsi.case.biot_check import check_biot_at_start
+    check_biot_at_start(case, dt)          # a warning when Bi is not << 1
     print(f"{args.case}: ok (case '{case.case.name}': {len(case.particles)} particle "
           f"source(s), {len(case.walls)} wall(s), {len(case.structures)} structure(s), "
           f"{len(case.monitors)} monitor(s); dt = {dt:.3g} s)")
