@@ -50,7 +50,13 @@ whose local matrix has no preallocation: its C++ ``la::petsc::create_matrix`` ca
 creates its local matrix), so the preallocation goes nowhere and the first
 ``zeroEntries``/assembly segfaults (measured here on a 4^3 box, 1 and 2 ranks). The
 script therefore preallocates the local matrix itself, from the cell-to-dof map, before
-assembling into it with dolfinx; on 1 rank BDDC has one subdomain and is a direct solve.
+assembling into it with dolfinx, and puts a 1 on the local diagonal of the Dirichlet dofs
+a rank shares but does not own (dolfinx sets the owner's only; an empty row makes the
+local Neumann problem singular: "Matrix is missing diagonal entry"), and restricts each
+subdomain to the dofs of the cells its rank owns (dolfinx's local space also holds the
+dofs of ghost cells, left empty by the assembly). On 1 rank BDDC has
+one subdomain and is a direct solve; on 2, two subdomains, which says nothing yet about
+its growth with the number of subdomains.
 
 With ``--uniform`` the sizes are not taken at ``--max-dofs`` but refined uniformly from
 the ``--min-dofs`` mesh: L_0 + i element layers through the wall and in-plane size
@@ -61,7 +67,8 @@ falls, the elements become less flat and every method's iterations fall with the
 dofs (the aspect-ratio effect fe_scale.py's docstring reports for GAMG).
 
 For each (structure, size, candidate) it prints ``iterations``, ``setup_s`` (the
-preconditioner's set-up) and ``solve_s`` (the CG solve), the rate (mean residual
+preconditioner's set-up) and ``solve_s`` (the CG solve), the iterations at which CG's
+(recursive) residual first fell to 1e-8 and 1e-10 of the initial one, the rate (mean residual
 reduction per iteration) and checks the solution against the first candidate's
 (relative difference). The last line is machine-readable key=value: for each candidate
 ``its_<c>_<structure>`` (iterations at the largest size), ``growth_<c>_<structure>``
@@ -231,8 +238,37 @@ def matis_matrix(p):
     L.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
     A.zeroEntries()
     fp.assemble_matrix(A, a, bcs=p.bcs)
+    # dolfinx puts the Dirichlet rows' 1 on the diagonal of the owning rank's subdomain
+    # only: the other subdomains sharing the dof keep an empty row (their local Neumann
+    # problem would be singular). Each gets a 1 there too: the assembled diagonal of a
+    # shared Dirichlet dof is then the number of subdomains sharing it, and its solution
+    # stays 0 (its right-hand side is 0, its row and column empty).
+    for bc in p.bcs:
+        dofs, first_ghost = bc.dof_indices()
+        for d in np.asarray(dofs[first_ghost:]):
+            L.setValue(int(d), int(d), 1.0, addv=PETSc.InsertMode.INSERT_VALUES)
     A.assemble()
-    return A
+    # The local space of dolfinx's MATIS is the rank's ghosted dofs, which include dofs of
+    # ghost cells that no owned cell touches (the mesh is ghosted by facets): their rows
+    # are empty. The subdomain is restricted to the dofs of its owned cells.
+    n_cells = compat.num_cells_local(p.mesh)
+    used = np.unique(cd[:n_cells].ravel())
+    rows = (3 * used[:, None] + np.arange(3)).ravel().astype(PETSc.IntType)
+    imap, _ = compat.dof_index_map(p.V)
+    if np.setdiff1d(np.arange(imap.size_local), used).size:
+        raise RuntimeError("matis_matrix: an owned dof lies in no owned cell")
+    is_rows = PETSc.IS().createGeneral(rows, comm=PETSc.COMM_SELF)
+    Lsub = L.createSubMatrix(is_rows, is_rows)
+    blocks = A.getLGMap()[0].getBlockIndices()
+    lgmap = PETSc.LGMap().create(blocks[used], bsize=3, comm=A.getComm())
+    B = PETSc.Mat().create(comm=A.getComm())
+    B.setSizes(A.getSizes(), bsize=3)
+    B.setType("is")
+    B.setLGMap(lgmap, lgmap)
+    B.setISLocalMat(Lsub)
+    B.assemble()
+    A.destroy()
+    return B
 
 
 def p_multigrid(ksp, p, A):
@@ -273,6 +309,7 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm):
     ksp.setType("cg")
     ksp.setFromOptions()
     coarse_op = p_multigrid(ksp, p, op) if name.startswith("pmg") else None
+    ksp.setConvergenceHistory(length=max_its + 1, reset=True)
     x = b.duplicate()
     x.set(0.0)
     comm.barrier()
@@ -300,6 +337,10 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm):
         rel = r.norm() / b.norm()
         out.update(its=its, solve_s=time.perf_counter() - t0, reason=int(ksp.getConvergedReason()),
                    rate=rel ** (1.0 / max(its, 1)), res=rel)
+        hist = np.asarray(ksp.getConvergenceHistory())
+        for tol in (1e-8, 1e-10):
+            hit = np.flatnonzero(hist <= tol * hist[0]) if hist.size else []
+            out[f"its_{tol:.0e}"] = int(hit[0]) if len(hit) else -1
         if x_ref is not None:
             d = x.copy()
             d.axpy(-1.0, x_ref)
@@ -354,7 +395,9 @@ def main() -> None:
                           f"reason={r['reason']:3d} setup={r['setup_s']:7.2f}s "
                           f"solve={r['solve_s']:8.2f}s rate={r['rate']:.3f} "
                           f"res={r.get('res', float('nan')):.1e} "
-                          f"diff={r.get('diff', float('nan')):.1e} load={load_average():.1f}"
+                          f"diff={r.get('diff', float('nan')):.1e} "
+                          f"its_1e-8={r.get('its_1e-08', -1)} its_1e-10={r.get('its_1e-10', -1)} "
+                          f"load={load_average():.1f}"
                           + (f" error: {r['err']}" if "err" in r else ""), flush=True)
             p.linear_solver.destroy()
             del p, A, b, sm
