@@ -98,13 +98,15 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   dofs, GAMG's by 1.93. On the plate (a / t = 25, thicker than the shell's R / t = 50)
   every count is flat within 25 %.
 * BoomerAMG (either form) needs 3.5-7 times fewer iterations than GAMG on both
-  structures, but each costs 2.5-6 times more on this host (its hierarchy on the P2 matrix: operator
-  complexity 3.3 on the 1e4 shell, with HMIS and extended+i interpolation), so the time
-  per step is about GAMG's on the shell (1e5 dofs, 1 rank: 294 s against 298 s) and 2-3
-  times less on the plate (7e4: 13 s against 36 s).
+  structures, but on the shell each costs 8 times more (its hierarchy on the P2 matrix:
+  operator complexity 3.3 on the 1e4 shell, with HMIS and extended+i interpolation).
+  Measured on the quiet host (2 ranks, load 2-3, uniform 3.2e4 dofs): per step GAMG
+  8.0 s, systems 19.0 s, nodal t0.7 44.7 s on the shell; on the plate BoomerAMG's
+  iterations cost about GAMG's and it is 5-8 times faster per step (3.2e4: systems 1.55 s,
+  nodal 2.5 s, GAMG 12.8 s).
 * p-multigrid (GAMG under a P2 -> P1 level) saves a quarter to a third of GAMG's
-  iterations, and its Jacobi-smoothed P2 level is cheap: the fastest solve on the 1e5
-  shell (134 s), with the same growth.
+  iterations with the same growth; on the quiet host its step costs 3 times GAMG's on the
+  shell (23.8 s against 8.0 s) and half of it on the plate.
 * Without ``--uniform`` (the wall keeps its layers while h falls) every count on the
   shell falls with the dofs (GAMG 851 / 727 / 548 at 1e4 / 3e4 / 1e5), as fe_scale.py
   measured: the elements become less flat.
@@ -113,7 +115,9 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   space, needs 1185 / 1152. BDDC on two subdomains reaches 1e-10 in 140 / 96 (shell) and
   70 / 57 (plate) iterations, then stalls above 1e-12 (600 iterations; PETSc reports an
   indefinite preconditioner on the 3e4 shell): with gsi's 1e-12 it does not converge, and
-  two subdomains cannot show its growth with their number.
+  two subdomains cannot show its growth with their number. On the uniformly refined
+  shell its 1e-8 count grows from 110 to 285 (4.9e3 -> 3.2e4 dofs), BoomerAMG nodal's
+  from 110 to 169.
 * GAMG with an SOR smoother under Chebyshev fails from 3e4 dofs on (the preconditioner's
   Chebyshev eigenvalue estimate breaks down: PETSc reason -11).
 
