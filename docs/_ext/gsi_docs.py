@@ -111,7 +111,11 @@ def validation_page() -> str:
            "runs the tests, then `make docs`). The physics and the references are described "
            "in [the design notes](design.md).", "",
            "Tolerance kinds: *rel* holds |measured − reference| ≤ tolerance × |reference|, "
-           "*abs* holds |measured − reference| ≤ tolerance.", ""]
+           "*abs* holds |measured − reference| ≤ tolerance; *bound*: the inequality the "
+           "note states. A chaotic case is judged on an ensemble of realisations "
+           "(mean ± standard error over the members, `tests/validation/conftest.py`). "
+           "*goal*: a paper's own figure where the test cannot assert it at its size "
+           "(shown, not asserted).", ""]
     if not path.exists():
         out += ["```{warning}",
                 "No results file: `tests/validation/results.json` is written by a test run "
@@ -131,14 +135,16 @@ def validation_page() -> str:
         by_file.setdefault(r["test"].split("::")[0], []).append(r)
     for f in sorted(by_file):
         out += [f"## `{f}`", "",
-                "| quantity | reference | measured | deviation | tolerance | outcome | source |",
-                "|---|---|---|---|---|---|---|"]
+                "| quantity | reference | measured | deviation | tolerance | goal | outcome | "
+                "source |",
+                "|---|---|---|---|---|---|---|---|"]
         for r in by_file[f]:
             unit = f" {r['unit']}" if r.get("unit") else ""
             out.append("| " + " | ".join(_cell(c) for c in (
                 r["name"], _fmt(r["reference"]) + unit, _fmt(r["measured"]) + unit,
                 _deviation(r), f"{_fmt(r['tolerance'])} ({r.get('kind', 'rel')})",
-                r.get("outcome", "not run to the end"), r.get("source", ""))) + " |")
+                r.get("goal", ""), r.get("outcome", "not run to the end"),
+                r.get("source", ""))) + " |")
         out.append("")
     return "\n".join(out)
 

@@ -80,6 +80,7 @@ from gsi.case import case_checks  # noqa: E402
 from gsi.case.case_checks import MAX_IMPACT_OVERLAP, MAX_SKIN  # noqa: E402,F401
 from gsi.case import input_checks, sizes  # noqa: E402
 from gsi.case.input_checks import check_output_names  # noqa: E402
+from gsi.case.structure_checks import check_structures  # noqa: E402
 #: more particles than this in one case is refused before any allocation
 MAX_PARTICLES = 20_000_000
 
@@ -276,7 +277,8 @@ class Case:
         for i, m in enumerate(self.monitors):
             m.check(f"monitors[{i}]", walls=set(self.wall_names()),
                     structures=set(self.structure_names()), groups=set(self.group_names()),
-                    thermal=self.thermal or self.dem.radiation)
+                    thermal=self.thermal or self.dem.radiation,
+                    driven={w.name for w in self.walls if w.motion.driven})
         if self.quick:
             q = self.quick_variant()
             if q.run.duration > self.run.duration:
@@ -284,7 +286,7 @@ class Case:
                                     f"run.duration = {self.run.duration} (s); --quick must be "
                                     f"shorter")
         case_checks.check_skin(self)
-        case_checks.check_stiffness(self)
+        case_checks.check_speeds(self)
         case_checks.check_placed_overlaps(self)
         input_checks.check_geometry(self)
         dt = self.time_step()
@@ -310,20 +312,21 @@ class Case:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")     # the case's own warnings were given
                 try:
-                    q._check_quick_form()
+                    q.check_quick_form()
                 except GsiInputError as exc:
                     raise GsiInputError(f"{exc} (with the [quick] overrides)") from None
         for words in size_warnings:
             warnings.warn(words, stacklevel=2)
         return dt
 
-    def _check_quick_form(self) -> None:
+    def check_quick_form(self) -> None:
         """The checks of :meth:`check` that a ``[quick]`` override can break (sizes, counts,
         materials, the step), without those a shorter run breaks on purpose (a stream or a
         schedule event after its end)."""
         dom = dict(domain_lo=self.dem.domain_lo, domain_hi=self.dem.domain_hi)
         for i, p in enumerate(self.particles):
             p.check(f"particles[{i}]", base_dir=self.base_dir, **dom)
+        check_structures(self)
         case_checks.check_skin(self)
         case_checks.check_stiffness(self)
         case_checks.check_placed_overlaps(self)

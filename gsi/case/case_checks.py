@@ -18,6 +18,28 @@ MAX_SKIN = 4.0
 #: fraction of the radius (a softer material lets particles pass through each other)
 MAX_IMPACT_OVERLAP = 0.5
 
+#: gravity above this (m/s^2, about 200 g: a geotechnical centrifuge) is a unit slip
+MAX_GRAVITY = 2000.0
+
+
+def check_gravity(case) -> None:
+    """|g| above MAX_GRAVITY: mm/s^2 typed for m/s^2 (9810 for 9.81)."""
+    g = float(np.linalg.norm(case.dem.gravity))
+    if g > MAX_GRAVITY:
+        raise GsiInputError(
+            f"dem.gravity = {list(case.dem.gravity)}: |g| = {g:.4g} m/s^2, over "
+            f"{MAX_GRAVITY:g} (about 200 g); did you give mm/s^2? ({g:.4g} mm/s^2 = "
+            f"{g / 1000:.4g} m/s^2)")
+
+
+def check_speeds(case) -> None:
+    """Gravity's magnitude, then the particles' stiffness against the speeds they meet
+    each other (:func:`check_stiffness`) and the moving walls (:func:`check_wall_speeds`)."""
+    check_gravity(case)
+    check_stiffness(case)
+    check_wall_speeds(case)
+
+
 def check_skin(case) -> None:
     """A Verlet skin above MAX_SKIN largest radii (or the domain) is a unit slip: every
     particle would list every other as a neighbour."""
@@ -60,6 +82,15 @@ def check_stiffness(case) -> None:
         delta = (15.0 * m_star * v ** 2 / (16.0 * e_star * math.sqrt(0.5 * r))) ** 0.4
         if delta > MAX_IMPACT_OVERLAP * r:
             need = mat.E * (delta / (0.1 * r)) ** 2.5
+            v0 = float(np.linalg.norm(p.velocity))
+            if v0 > 0.5 * v:        # the initial speed, not the fall, makes it: name it
+                v_ok = v * (MAX_IMPACT_OVERLAP * r / delta) ** 1.25 - (v - v0)
+                raise GsiInputError(
+                    f"particles[{i}].velocity = {list(p.velocity)}: particles (radius {r:g} "
+                    f"m) meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their "
+                    f"radius and pass through each other (materials.{p.material}.E = "
+                    f"{mat.E:g}); use a speed below about {max(v_ok, 0.0):.3g} m/s (m/s, not "
+                    f"mm/s?) or E >= {need:.3g} Pa")
             raise GsiInputError(
                 f"materials.{p.material}.E = {mat.E:g}: too soft; particles[{i}] (radius "
                 f"{r:g} m) meeting at {v:.3g} m/s would overlap by {delta / r:.3g} x their "
@@ -159,3 +190,72 @@ def check_radiation(case, dt: float) -> None:
             f"unstable (radiation_every x dt x 4 eps sigma T^3 A/(m c_p) = {ratio:.3g} > 1 "
             f"at T = {T_max:g} K); use dem.radiation_every <= "
             f"{max(1, int(opts['every'] / ratio))} or a smaller run.dt")
+
+
+#: the unit of each motion key, for the wall-speed refusal
+HINT = {"rpm": "rpm: revolutions per minute", "omega": "omega: rad/s",
+        "velocity": "velocity: m/s"}
+
+
+def _fastest_state(w, base_dir):
+    """(surface speed bound (m/s), key of the motion value that sets it) of a moving wall:
+    |v| + |omega| x the largest distance of its vertices from the rotation axis, at the
+    start and at every schedule event (None for a wall that does not move)."""
+    mo = w.motion
+    if mo is None or not mo.moves:
+        return None
+    axis = getattr(w, "axis", None) or (0.0, 0.0, 1.0)
+    centre = getattr(w, "centre", None) or (0.0, 0.0, 0.0)
+    try:
+        V = w.surface(base_dir=base_dir)[0] if w.kind not in ("plane", "box") else None
+    except (GsiInputError, AttributeError, ValueError):
+        V = None
+    events = list(enumerate(getattr(mo, "events", None) or []))
+    best = (0.0, None)
+    for k, e in [(None, None)] + events:
+        t = 0.0 if e is None else e.t
+        v, omega, c = mo.state_at(t, axis=axis, centre=centre)
+        speed = float(np.linalg.norm(v))
+        if np.any(omega) and V is not None and c is not None:
+            a = omega / np.linalg.norm(omega)
+            rel = V - np.asarray(c, float)
+            reach = float(np.linalg.norm(rel - np.outer(rel @ a, a), axis=1).max())
+            speed += float(np.linalg.norm(omega)) * reach
+        src = mo if e is None else e
+        name = ("rpm" if getattr(src, "rpm", None) is not None else
+                "omega" if getattr(src, "omega", None) is not None else "velocity")
+        key = f"motion.{name}" if e is None else f"motion.events[{k}].{name}"
+        if speed > best[0]:
+            best = (speed, key)
+    return best if best[1] is not None else None
+
+
+def check_wall_speeds(case) -> None:
+    """A moving wall meeting particles at its surface speed (plus their own impact speed)
+    must not overlap them by more than MAX_IMPACT_OVERLAP of their radius (Hertz,
+    particle against wall: R* = r, m* = m, 1/E* = (1 - nu_p^2)/E_p + (1 - nu_w^2)/E_w;
+    :func:`check_stiffness` did the same without the wall): a drum at 1e6 rpm (an rpm
+    typed for a rad/s, or a unit slip) throws the particles through its wall."""
+    if case.dem.contact != "hertz":
+        return
+    for j, w in enumerate(case.walls):
+        got = _fastest_state(w, case.base_dir)
+        if got is None:
+            continue
+        v_wall, key = got
+        wm = case.materials[w.material]
+        for i, p in enumerate(case.particles):
+            mat = case.materials[p.material]
+            r = case.source_largest_radius(i)
+            m = mat.rho * 4.0 / 3.0 * math.pi * r ** 3
+            e_star = 1.0 / ((1.0 - mat.nu ** 2) / mat.E + (1.0 - wm.nu ** 2) / wm.E)
+            v = v_wall + case.impact_speed(i)
+            delta = (15.0 * m * v ** 2 / (16.0 * e_star * math.sqrt(r))) ** 0.4
+            if delta > MAX_IMPACT_OVERLAP * r:
+                v_ok = math.sqrt((MAX_IMPACT_OVERLAP * r) ** 2.5 * 16.0 * e_star
+                                 * math.sqrt(r) / (15.0 * m)) - case.impact_speed(i)
+                raise GsiInputError(
+                    f"walls[{j}].{key}: the wall's surface moves at up to {v_wall:.3g} m/s; "
+                    f"particles[{i}] (radius {r:g} m) hit at {v:.3g} m/s would overlap it by "
+                    f"{delta / r:.3g} x their radius and pass through it; keep the surface "
+                    f"speed below about {max(v_ok, 0.0):.3g} m/s ({HINT[key.rsplit('.', 1)[1]]})")

@@ -4,12 +4,19 @@ case changed (``gsi run --resume`` refuses a changed case unless ``--allow-chang
 The fingerprint is the case as flat ``{key path: value}`` (``materials.glass.mu: 0.3``,
 ``particles[0].count: 2000``), without the keys that do not change the physics of the
 remaining run (:data:`FREE`: progress lines, threads, checkpoint and picture options, the
-description)."""
+description). The files the case references (``.file`` keys: particle files, mesh walls,
+gmsh structures, with the files a ``.geo`` includes or merges) count by their contents:
+``<key> (contents)`` holds the file's SHA-256, so
+an edited file is a change although its name is the same. A checkpoint written before the
+contents were fingerprinted lacks those keys; they are not compared then."""
 from __future__ import annotations
 
+import hashlib
 import json
+import pathlib
+import re
 
-__all__ = ["fingerprint", "changes", "check_resume", "FREE"]
+__all__ = ["fingerprint", "changes", "check_resume", "FREE", "CONTENTS"]
 
 #: keys a resumed run may change freely
 FREE = ("case.description", "run.progress", "run.threads", "run.checkpoint_interval",
@@ -33,8 +40,37 @@ def fingerprint(case) -> dict:
     from gsi.case.case import case_to_table
     out: dict = {}
     _flat(case_to_table(case), "", out)
-    return {k: v for k, v in out.items()
-            if not any(k == f or k.startswith(f + ".") or k.startswith(f + "[") for f in FREE)}
+    out = {k: v for k, v in out.items()
+           if not any(k == f or k.startswith(f + ".") or k.startswith(f + "[") for f in FREE)}
+    base = pathlib.Path(getattr(case, "base_dir", "."))
+    for k, v in list(out.items()):
+        if (k == "file" or k.endswith(".file")) and isinstance(v, str):
+            out[k + CONTENTS] = _digest(base / v)
+    return out
+
+
+#: suffix of the key that holds a referenced file's digest
+CONTENTS = " (contents)"
+
+
+#: the files a gmsh script reads: ``Include "x.geo";``, ``Merge "y.step";``
+_GEO_READS = re.compile(rb'^\s*(?:Include|Merge)\s*"([^"]+)"', re.MULTILINE)
+
+
+def _digest(path: pathlib.Path, depth: int = 0) -> str:
+    """``sha256:<hex>`` of a file's bytes (a ``.geo``: with the files it includes or
+    merges, to 3 levels), or ``(no such file)``."""
+    h = hashlib.sha256()
+    try:
+        with path.open("rb") as fh:
+            data = fh.read()
+    except OSError:
+        return "(no such file)"
+    h.update(data)
+    if path.suffix.lower() == ".geo" and depth < 3:
+        for name in _GEO_READS.findall(data):
+            h.update(_digest(path.parent / name.decode("utf-8", "replace"), depth + 1).encode())
+    return "sha256:" + h.hexdigest()
 
 
 def changes(old: dict, new: dict) -> list[str]:
@@ -42,7 +78,12 @@ def changes(old: dict, new: dict) -> list[str]:
     out = []
     for k in sorted(set(old) | set(new)):
         a, b = old.get(k, "(unset)"), new.get(k, "(unset)")
-        if a != b:
+        if k.endswith(CONTENTS):
+            if k in old and k in new and a != b:      # an older manifest lacks them
+                said = ["(a file)" if x.startswith("sha256:") else x for x in (a, b)]
+                out.append(f"{k}: the file was edited" if said == ["(a file)"] * 2 else
+                           f"{k}: {said[0]} -> {said[1]}")
+        elif a != b:
             out.append(f"{k}: {a} -> {b}")
     return out
 

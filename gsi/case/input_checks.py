@@ -10,6 +10,8 @@ import math
 import numpy as np
 
 from gsi.case.names import check_name, check_unique_across
+from gsi.case.structure_checks import check_structures
+from gsi.meshes.footprint import point_triangle_distance
 from gsi.errors import GsiInputError
 
 __all__ = ["check_output_names", "check_pairs", "check_planes_and_fills",
@@ -176,62 +178,75 @@ def check_heat_stability(case, dt: float) -> None:
                 f"true to run anyway)")
 
 
-def _point_triangle_distance(P: np.ndarray, A, B, C) -> np.ndarray:
-    """Distance (n, m) of points P (n, 3) to triangles (A, B, C) (m, 3 each): to the plane
-    when the projection falls inside, else to the nearest edge."""
-    def seg(P, a, b):
-        ab = b - a
-        t = np.clip(np.einsum("nmk,mk->nm", P[:, None, :] - a[None], ab)
-                    / np.maximum(np.einsum("mk,mk->m", ab, ab), 1e-300), 0.0, 1.0)
-        q = a[None] + t[..., None] * ab[None]
-        return np.linalg.norm(P[:, None, :] - q, axis=2)
-    n = np.cross(B - A, C - A)
-    nn = np.linalg.norm(n, axis=1)
-    n = n / np.maximum(nn, 1e-300)[:, None]
-    d = P[:, None, :] - A[None]
-    h = np.einsum("nmk,mk->nm", d, n)
-    q = P[:, None, :] - h[..., None] * n[None]
-    inside = np.ones(h.shape, bool)
-    for a, b in ((A, B), (B, C), (C, A)):
-        inside &= np.einsum("nmk,mk->nm", np.cross(b - a, q - a[None]), n) >= 0
-    edges = np.minimum(np.minimum(seg(P, A, B), seg(P, B, C)), seg(P, C, A))
-    return np.where(inside & (nn > 0)[None], np.abs(h), edges)
-
-
 #: most site-triangle pairs the lattice check computes (beyond: checked on a sample)
 MAX_PAIRS = 20_000_000
 
 
 def check_lattices_against_walls(case) -> None:
-    """Lattice fill sites (known before the run) closer to a shaped wall (cone, funnel,
-    cylinder, drum, plate, mesh) than the particle radius: the particles would start cut
-    by the wall and be pushed through it or lost."""
+    """Particles placed at the start closer to a shaped wall (cone, funnel, cylinder,
+    drum, plate, mesh) than their radius: they would start cut by the wall and be pushed
+    through it or lost. Lattice sites (within 0.999 of the largest radius), a particle
+    file's rows (within (1 - MAX_OVERLAP) of their radius), and a random fill's or a
+    stream's possible centres (:func:`gsi.case.structure_checks.possible_centres`: within
+    (1 - MAX_OVERLAP) of the smallest radius: the region reaches through the wall)."""
+    from gsi.case.sources import MAX_OVERLAP, read_particle_file
+    from gsi.case.structure_checks import possible_centres
+    shaped = [(j, w) for j, w in enumerate(case.walls) if w.kind not in ("plane", "box")]
+    if not shaped:
+        return
     for i, p in enumerate(case.particles):
-        if p.fill != "lattice":
-            continue
-        x = p.lattice_sites(f"particles[{i}]")
-        r = p.size.largest
-        for j, w in enumerate(case.walls):
-            if w.kind in ("plane", "box"):
-                continue
+        if p.fill == "lattice":
+            x = p.lattice_sites(f"particles[{i}]")
+            r = np.full(len(x), 0.999 * p.size.largest)
+        elif p.fill == "file":
+            data = read_particle_file(case.base_dir / p.file, key=f"particles[{i}].file",
+                                      shown=p.file)
+            x, r = data["x"], (1.0 - MAX_OVERLAP) * data["radius"]
+        else:
+            r0 = case.source_smallest_radius(i)
+            x = possible_centres(p, r0)
+            r = np.full(len(x), (1.0 - MAX_OVERLAP) * r0)
+        for j, w in shaped:
             V, T = w.surface(base_dir=case.base_dir)
-            lo, hi = V.min(0) - r, V.max(0) + r
-            near = x[((x >= lo) & (x <= hi)).all(1)]
-            if len(near) == 0:
+            hit = _nearest_within(x, r, V, T)
+            if hit is None:
                 continue
-            step = max(1, int(len(near) * len(T) // MAX_PAIRS) + 1)
-            near = near[::step]
-            chunk = max(1, 2_000_000 // len(T))       # bounded temporary arrays
-            for k in range(0, len(near), chunk):
-                P = near[k:k + chunk]
-                d = _point_triangle_distance(P, V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]).min(1)
-                if (d < 0.999 * r).any():
-                    s = P[int(np.argmin(d))]
-                    raise GsiInputError(
-                        f"particles[{i}].region: lattice sites cross walls[{j}] ('{w.name}', "
-                        f"a {w.kind}): the site at {np.round(s, 6).tolist()} is {float(d.min()):.3g}"
-                        f" m from it, less than the radius {r:g} m; shrink or move the region "
-                        f"inside the wall")
+            k, d = hit
+            if p.fill == "lattice":
+                what = (f"particles[{i}].region: lattice sites cross walls[{j}] ('{w.name}', "
+                        f"a {w.kind}): the site at")
+                less = f"less than the radius {p.size.largest:g} m"
+            elif p.fill == "file":
+                what = (f"particles[{i}].file = '{p.file}': row {k} cuts walls[{j}] "
+                        f"('{w.name}', a {w.kind}): the row at")
+                less = f"less than its radius {r[k] / (1.0 - MAX_OVERLAP):g} m"
+            else:
+                what = (f"particles[{i}].region: reaches through walls[{j}] ('{w.name}', a "
+                        f"{w.kind}): the possible centre at")
+                less = f"less than the smallest radius {r[k] / (1.0 - MAX_OVERLAP):g} m"
+            raise GsiInputError(f"{what} {np.round(x[k], 6).tolist()} is {d:.3g} m from it, "
+                                f"{less}; shrink or move the "
+                                f"{'particles' if p.fill == 'file' else 'region'} inside the wall")
+
+
+def _nearest_within(x, r, V, T):
+    """(index, distance) of the point of ``x`` nearest the triangles (V, T) relative to its
+    limit ``r``, among those closer than their limit; None if none is. Points beyond the
+    triangles' box are skipped; above MAX_PAIRS point-triangle pairs a sample is checked."""
+    lo, hi = V.min(0) - r.max(), V.max(0) + r.max()
+    idx = np.flatnonzero(((x >= lo) & (x <= hi)).all(1))
+    if len(idx) == 0:
+        return None
+    idx = idx[::max(1, int(len(idx) * len(T) // MAX_PAIRS) + 1)]
+    chunk = max(1, 2_000_000 // len(T))       # bounded temporary arrays
+    for k in range(0, len(idx), chunk):
+        sel = idx[k:k + chunk]
+        d = point_triangle_distance(x[sel], V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]).min(1)
+        bad = d < r[sel]
+        if bad.any():
+            m = int(np.argmin(np.where(bad, d / r[sel], np.inf)))
+            return int(sel[m]), float(d[m])
+    return None
 
 
 #: the largest particle-particle friction coefficient at which the Coulomb cap bounds the
@@ -290,17 +305,22 @@ def check_friction_stability(case, dt: float) -> None:
 
 
 def check_geometry(case) -> None:
-    """The geometric contradictions (planes and fills, monitor regions, lattices and walls)."""
+    """The geometric contradictions (planes and fills, monitor regions, lattices and walls,
+    structures outside the domain or through the particles)."""
     check_lengths(case)
     check_planes_and_fills(case)
     check_monitor_regions(case)
     check_lattices_against_walls(case)
+    check_structures(case)
 
 
 def check_stability(case, dt: float) -> None:
-    """The stability bounds known before the run (heat update, very high friction)."""
+    """The stability bounds known before the run (heat update, very high friction, a
+    servo wall's gain: :func:`gsi.case.driven_motion.check_servo_gains`)."""
+    from gsi.case.driven_motion import check_servo_gains
     check_heat_stability(case, dt)
     check_friction_stability(case, dt)
+    check_servo_gains(case, dt)
 
 
 def check_lengths(case) -> None:

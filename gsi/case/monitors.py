@@ -13,6 +13,11 @@ Each ``[[monitors]]`` table is one :class:`Monitor`; its ``kind`` says what it m
 ``temperature``
     Heat-capacity weighted mean, minimum and maximum particle temperature (K) of a group
     (``group`` = a ``[[particles]]`` name) or of the particles inside a ``region``.
+``wall_motion``
+    A driven wall's (``target``, motion kind oscillation, servo or free) position along
+    its direction (m) or angle about its axis (rad) since the start, its velocity (m/s
+    or rad/s), the particles' load along the direction (N) or about the axis (N m), and
+    the servo's target force (N; NaN for the other kinds).
 ``structure``
     Largest displacement (m) and von Mises stress (Pa), mean temperature (K) and the
     interface load (N) of a structure (``target``).
@@ -49,11 +54,12 @@ from gsi.errors import GsiInputError
 
 __all__ = ["Monitor", "MONITOR_KINDS"]
 
-MONITOR_KINDS = ("wall", "discharge", "temperature", "structure", "particles", "mixing",
-                 "energy")
+MONITOR_KINDS = ("wall", "wall_motion", "discharge", "temperature", "structure", "particles",
+                 "mixing", "energy")
 
 _COLUMNS = {
     "wall": ["Fx_N", "Fy_N", "Fz_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"],
+    "wall_motion": ["position", "velocity", "load", "target_N"],
     "discharge": ["mass_kg", "count", "lost"],
     "temperature": ["T_mean_K", "T_min_K", "T_max_K", "count"],
     "structure": ["max_displacement_m", "max_von_mises_Pa", "T_mean_K", "load_x_N",
@@ -88,14 +94,14 @@ class Monitor:
                                       doc="sampling interval (default: output.interval)")
 
     def validate(self, path: str) -> None:
-        need = {"wall": ("target",), "structure": ("target",), "discharge": ("normal",),
+        need = {"wall": ("target",), "wall_motion": ("target",), "structure": ("target",), "discharge": ("normal",),
                 "temperature": (), "particles": (), "energy": (),
                 "mixing": ("group", "region", "cells")}[self.kind]
         for key in need:
             if getattr(self, key) is None:
                 raise GsiInputError(f"{path}.{key}: missing; a '{self.kind}' monitor needs "
                                     f"{', '.join(need)}")
-        uses = {"wall": ("target", "point"), "structure": ("target",),
+        uses = {"wall": ("target", "point"), "wall_motion": ("target",), "structure": ("target",),
                 "discharge": ("point", "normal"), "temperature": ("group", "region"),
                 "particles": (), "energy": (),
                 "mixing": ("group", "region", "cells", "min_count")}[self.kind]
@@ -123,11 +129,15 @@ class Monitor:
         return list(_COLUMNS[self.kind])
 
     def check(self, path: str, *, walls: set, structures: set, groups: set,
-              thermal: bool) -> None:
+              thermal: bool, driven: set = frozenset()) -> None:
         """Names that must exist in the case (before a run)."""
         if self.kind == "wall" and self.target not in walls | structures:
             raise GsiInputError(f"{path}.target = {self.target!r}: no wall or structure of that "
                                 f"name; known: {', '.join(sorted(walls | structures)) or 'none'}")
+        if self.kind == "wall_motion" and self.target not in driven:
+            raise GsiInputError(f"{path}.target = {self.target!r}: no wall of that name with "
+                                f"a motion of kind oscillation, servo or free; known: "
+                                f"{', '.join(sorted(driven)) or 'none'}")
         if self.kind == "structure" and self.target not in structures:
             raise GsiInputError(f"{path}.target = {self.target!r}: no structure of that name; "
                                 f"known: {', '.join(sorted(structures)) or 'none'}")
@@ -163,6 +173,13 @@ class Monitor:
                 F += h.force
                 T += h.torque + np.cross(ref - p, h.force)
             return [*F, *T]
+        if self.kind == "wall_motion":
+            h = run.wall_handles(self.target)[0]
+            d = next((d for d in sim.drivers.items if d.walls[0] is h), None)
+            if d is None:
+                raise GsiInputError(f"monitors: {self.name}.target = {self.target!r}: the "
+                                    "wall's motion is not oscillation, servo or free")
+            return [d.position, d.velocity, d.load, d.target]
         if self.kind == "discharge":
             n = np.asarray(self.normal, float)
             n = n / np.linalg.norm(n)

@@ -10,14 +10,15 @@ from typing import Optional
 
 import numpy as np
 
-from gsi.case.regions import _prefix
-from gsi.config.schema import nonnegative, one_of, param
+from gsi.case.driven_motion import DRIVEN_KEYS, DRIVEN_KINDS, SchedulePoint, validate_driven
+from gsi.case.regions import key_prefix
+from gsi.config.schema import nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
 __all__ = ["Motion", "MotionEvent", "MOTION_KINDS", "RPM", "next_event"]
 
 Vec3 = tuple[float, ...]
-MOTION_KINDS = ("fixed", "translation", "rotation", "schedule")
+MOTION_KINDS = ("fixed", "translation", "rotation", "schedule") + DRIVEN_KINDS
 #: rad/s per revolution per minute
 RPM = 2.0 * math.pi / 60.0
 
@@ -63,7 +64,8 @@ class Motion:
     """How a wall moves (see the module docstring); velocities m/s, rotation rad/s or rpm."""
 
     kind: str = param("fixed", check=one_of(*MOTION_KINDS),
-                      doc="fixed, translation, rotation or schedule")
+                      doc="fixed, translation, rotation, schedule; oscillation, servo or free "
+                      "(gsi.case.driven_motion)")
     velocity: Optional[Vec3] = param(None, unit="m/s", length=3, doc="translation velocity")
     axis: Optional[Vec3] = param(None, unit="-", length=3,
                                  doc="rotation axis direction (default: the shape's axis)")
@@ -73,6 +75,39 @@ class Motion:
     omega: Optional[float] = param(None, unit="rad/s", doc="rotation speed (not with rpm)")
     events: Optional[list[MotionEvent]] = param(
         None, doc="schedule: list of {t, velocity, rpm|omega, axis, centre}")
+    # the driven kinds (gsi.case.driven_motion)
+    amplitude: Optional[float] = param(None, unit="m or rad", check=positive(),
+                                       doc="oscillation: amplitude (rad with axis)")
+    frequency: Optional[float] = param(None, unit="Hz", check=positive(),
+                                       doc="oscillation: frequency")
+    phase: float = param(0.0, unit="rad", doc="oscillation: phase")
+    update_every: int = param(1, check=positive(),
+                              doc="oscillation, servo: DEM steps between velocity updates "
+                              "(1: every step, exact)")
+    direction: Optional[Vec3] = param(None, unit="-", length=3,
+                                      doc="oscillation, servo, free: direction of the motion "
+                                      "(servo: into the particles; default: a plane's normal)")
+    stress: Optional[float] = param(None, unit="Pa", sane=False, doc="servo: target normal stress")
+    force: Optional[float] = param(None, unit="N", doc="servo: target normal force")
+    stress_schedule: Optional[list[SchedulePoint]] = param(
+        None, doc="servo: target stress, list of {t, value} (Pa), piecewise linear")
+    force_schedule: Optional[list[SchedulePoint]] = param(
+        None, doc="servo: target force, list of {t, value} (N), piecewise linear")
+    max_speed: Optional[float] = param(None, unit="m/s", check=positive(),
+                                       doc="servo: largest wall speed")
+    area: Optional[float] = param(None, unit="m^2", check=positive(),
+                                  doc="servo: area the stress acts on (needed for a plane)")
+    gain: Optional[float] = param(None, unit="m/(s N)", check=positive(),
+                                  doc="servo: gain (default 0.5/(K dt), the stability rule)")
+    mass: Optional[float] = param(None, unit="kg", check=positive(), doc="free: wall mass")
+    inertia: Optional[float] = param(None, unit="kg m^2", check=positive(),
+                                     doc="free: moment of inertia about the hinge axis")
+    centre_of_mass: Optional[Vec3] = param(None, unit="m", length=3,
+                                           doc="free hinged wall: where its weight acts")
+    spring: float = param(0.0, unit="N/m or N m/rad", check=nonnegative(),
+                          doc="free: spring to the built position")
+    damper: float = param(0.0, unit="N s/m or N m s/rad", check=nonnegative(),
+                          doc="free: damper to ground")
 
     # ---- construction helpers
     @classmethod
@@ -101,21 +136,31 @@ class Motion:
         return m
 
     # ---- validation
-    def validate(self, path: str = "motion", *, has_axis: bool = True) -> None:
+    def validate(self, path: str = "motion", *, has_axis: bool = True,
+                 planes: bool | None = None, box: bool = False) -> None:
         """Keys match the kind.  ``has_axis=False``: the wall supplies no default axis and
-        centre, so a rotation must give both (:meth:`Wall.validate` passes it)."""
-        p = _prefix(path)
+        centre, so a rotation must give both (:meth:`Wall.validate` passes it);
+        ``planes``/``box``: the wall is a plane or a box of planes (the driven kinds;
+        None: the wall is not known yet, its checks wait for :meth:`Wall.validate`)."""
+        p = key_prefix(path)
         uses = {"fixed": (), "translation": ("velocity",),
                 "rotation": ("axis", "centre", "rpm", "omega"),
-                "schedule": ("events", "axis", "centre")}[self.kind]
-        for key in ("velocity", "axis", "centre", "rpm", "omega", "events"):
-            if key not in uses and getattr(self, key) is not None:
+                "schedule": ("events", "axis", "centre"), **DRIVEN_KEYS}[self.kind]
+        for key in _OPTIONAL_KEYS:
+            if key not in uses and getattr(self, key) != _DEFAULTS[key]:
                 fit = [k for k, u in (("translation", ("velocity",)),
                                       ("rotation", ("rpm", "omega", "axis", "centre")),
-                                      ("schedule", ("events",))) if key in u]
+                                      ("schedule", ("events",)), *DRIVEN_KEYS.items())
+                       if key in u]
                 raise GsiInputError(f"{p}{key}: not a key of a '{self.kind}' motion; set "
                                     f"{p}kind = '{fit[0]}' or remove it" if fit else
                                     f"{p}{key}: not a key of a '{self.kind}' motion")
+        if self.kind in DRIVEN_KINDS:
+            validate_driven(self, p, planes=planes, box=box)
+            for key in ("axis", "direction"):
+                if getattr(self, key) is not None:
+                    _unit(getattr(self, key), f"{p}{key}")
+            return
         if self.kind == "translation" and self.velocity is None:
             raise GsiInputError(f"{p}velocity: missing; a translation needs a velocity (m/s)")
         if self.axis is not None:
@@ -153,8 +198,15 @@ class Motion:
                                         "axis and centre")
 
     @property
+    def driven(self) -> bool:
+        """Whether the DEM drives the wall step by step (:mod:`gsi.case.driven_motion`)."""
+        return self.kind in DRIVEN_KINDS
+
+    @property
     def rotates(self) -> bool:
         """Whether the wall ever turns."""
+        if self.driven:
+            return self.axis is not None
         if self.kind == "rotation":
             return _omega(self.rpm, self.omega) != 0.0
         if self.kind == "schedule":
@@ -186,7 +238,7 @@ class Motion:
         defaults when the motion gives none.  An event takes effect at its ``t`` (within
         1e-9 relative)."""
         zero = np.zeros(3)
-        if self.kind == "fixed":
+        if self.kind == "fixed" or self.driven:      # a driver sets it before every step
             return zero, zero.copy(), None
         if self.kind == "translation":
             return np.asarray(self.velocity, float), zero, None
@@ -211,17 +263,25 @@ class Motion:
 
     # ---- checks
     def check(self, path: str = "motion", *, duration: float | None = None,
-              has_axis: bool = True) -> None:
+              has_axis: bool = True, planes: bool | None = None, box: bool = False) -> None:
         """Keys match the kind; no schedule event at or after the end ``duration`` (s) of
         the run (an error: such an event never happens, usually a unit slip)."""
-        self.validate(path, has_axis=has_axis)
+        self.validate(path, has_axis=has_axis, planes=planes, box=box)
         if duration is None:
             return
         for i, t in enumerate(self.event_times()):
             if t >= duration - _time_tol(duration):
-                raise GsiInputError(f"{_prefix(path)}events[{i}].t = {t}: at or after the end of "
+                raise GsiInputError(f"{key_prefix(path)}events[{i}].t = {t}: at or after the end of "
                                     f"the run (run.duration = {duration} s); it would never "
                                     "happen: move it earlier or remove it (s)")
+
+
+_OPTIONAL_KEYS = ("velocity", "axis", "centre", "rpm", "omega", "events", "amplitude",
+                  "frequency", "phase", "direction", "stress", "force", "stress_schedule",
+                  "force_schedule", "max_speed", "area", "gain", "mass", "inertia",
+                  "centre_of_mass", "spring", "damper", "update_every")
+_DEFAULTS = {key: (0.0 if key in ("phase", "spring", "damper") else None)
+             for key in _OPTIONAL_KEYS} | {"update_every": 1}
 
 
 def next_event(walls, t: float) -> float:

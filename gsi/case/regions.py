@@ -30,7 +30,7 @@ _NEED = {"box": ("lo", "hi"), "cylinder": ("centre", "radius", "length"),
 _OPTIONAL = {"box": (), "cylinder": ("axis",), "sphere": ()}
 
 
-def _prefix(path: str) -> str:
+def key_prefix(path: str) -> str:
     return f"{path}." if path else ""
 
 
@@ -74,7 +74,7 @@ class Region:
 
     def validate(self, path: str = "region") -> None:
         """Keys match the kind; raise a one-line GsiInputError naming the key."""
-        p = _prefix(path)
+        p = key_prefix(path)
         if self.kind not in REGION_KINDS:
             raise GsiInputError(f"{p}kind = {self.kind!r}: must be one of "
                                 + ", ".join(repr(k) for k in REGION_KINDS))
@@ -140,7 +140,7 @@ class Region:
     def check(self, path: str = "region", *, domain_lo, domain_hi) -> None:
         """The region lies inside the domain box; raise GsiInputError naming the key."""
         self.validate(path)
-        p = _prefix(path)
+        p = key_prefix(path)
         dlo, dhi = np.asarray(domain_lo, float), np.asarray(domain_hi, float)
         lo, hi = self.bounds()
         size = float(np.max(dhi - dlo))

@@ -8,7 +8,10 @@ the DEM moves about :data:`PARTICLE_STEPS_PER_S` particle-steps per second on on
 and holds about :data:`BYTES_PER_PARTICLE` (settle_scale: 6.5e6-9.9e6 particle-steps/s,
 493 bytes per particle); a P2 structure of 1e6 dofs took 6.8 GB and 31 min of set-up
 out of core on 2 ranks (fe_scale), 1e5 dofs 1.3 GB in memory (:data:`FE_BYTES_PER_DOF`,
-:data:`FE_SETUP_S_PER_DOF`). They are orders of magnitude, said as such ("about")."""
+:data:`FE_SETUP_S_PER_DOF`). They are orders of magnitude, said as such ("about").
+The dofs of every structure (each builder, a ``.geo`` or ``.msh`` file) come from its
+:class:`gsi.meshes.footprint.Footprint`, the body known before it is meshed; the
+extrapolation's replay from :data:`REPLAY_S_PER_PARTICLE_SAMPLE`."""
 from __future__ import annotations
 
 import math
@@ -26,6 +29,12 @@ FE_SETUP_S_PER_DOF = 2e-3
 #: more DEM steps than this are refused (a run of 1e9 steps takes days even with few
 #: particles: the step's fixed cost is microseconds)
 MAX_STEPS = 1e9
+#: a case with a driven wall (oscillation, servo, free; gsi.dem.wall_drivers) steps in
+#: one-step chunks: a fixed cost per step (s) and a slower step (the next step's kick and
+#: drift are no longer fused into the force pass); benchmarks/driven_walls.py measured
+#: 5e-5 s per step and x1.4 at 200 and 2,000 beads on a shared 2-core host
+DRIVEN_STEP_S = 1e-4
+DRIVEN_FACTOR = 1.5
 #: ``--quick`` is a smoke test: more steps than this are refused in its form
 MAX_QUICK_STEPS = 1e7
 MAX_CHECKPOINTS = 1000
@@ -38,6 +47,12 @@ MEMORY_FACTOR = 4.0
 WARN_WALL_S = 6 * 3600.0
 #: a warning when the FE set-up needs more dofs than this
 WARN_DOFS = 200_000
+#: the extrapolation's replay, seconds per particle and logged sample (every x dt):
+#: benchmarks/results drum_extrapolation, 5,000 particles, a turn of 3150 samples
+#: replayed in 0.0213 s (1.35e-9; 80,000 particles: 7.9e-10)
+REPLAY_S_PER_PARTICLE_SAMPLE = 1.35e-9
+#: a replay estimated above this (s) is refused (a slip in the period count)
+MAX_REPLAY_S = 30 * 86400.0
 
 
 def _memory_bytes() -> float:
@@ -48,86 +63,29 @@ def _memory_bytes() -> float:
         return math.inf
 
 
-def structure_dofs(st, base_dir) -> dict | None:
-    """The estimated size of a structure before it is built, or None when unknown:
-    ``dofs``, ``how`` (words), and for a gmsh file its bounding box ``box`` ((lo, hi), m,
-    after ``translate``) and largest ``extent`` (m). A gmsh file: the mesh size h measured
-    on its curves (a 1D mesh, cheap) and its bounding box: a surface mesh of size h has
-    about A/(0.87 h^2) vertices on the box's area A; P2 adds about 3 edge nodes per vertex;
-    3 dofs per node. This counts the surface only (a lower bound for a bulky body). The
-    shell builder: its own estimate."""
-    if st.mesh == "shell":
-        from gsi.meshes.shell import estimate_dofs
-        return dict(dofs=float(estimate_dofs(**st.geometry)),
-                    how="the shell builder's estimate", box=None, extent=None)
+def structure_footprint(st, base_dir):
+    """The :class:`gsi.meshes.footprint.Footprint` of a structure (the body its mesh will
+    occupy, after ``translate``, and its estimated mesh size), or None when unknown (a
+    file gmsh cannot probe: the build reports it)."""
+    from gsi.meshes import footprint
+    if st.mesh is not None:
+        return footprint.of_builder(st.mesh, st.geometry, st.translate)
     if st.file is None or not st.file_path(base_dir).is_file():
         return None
-    found = _probe(st.file_path(base_dir), st.geometry)
-    if found is None:
-        return None
-    lo, hi, h = found
-    dx, dy, dz = (b - a for a, b in zip(lo, hi))
-    area = 2.0 * (dx * dy + dy * dz + dz * dx)
-    vertices = area / (0.866 * h * h)
-    per = 4.0 if st.degree == 2 else 1.0
-    shift = [float(t) for t in st.translate]
-    return dict(dofs=3.0 * per * vertices,
-                how=f"mesh size h = {h:.3g} m over a {dx:.3g} x {dy:.3g} x {dz:.3g} m body",
-                box=([a + t for a, t in zip(lo, shift)], [b + t for b, t in zip(hi, shift)]),
-                extent=max(dx, dy, dz))
+    return footprint.of_file(st.file_path(base_dir), st.geometry, st.translate)
 
 
-def _probe(path, params) -> tuple[list, list, float] | None:
-    """(bounding-box lo, hi, mean curve mesh size) of a gmsh file, from a 1D mesh whose
-    size is floored at 1/5000 of the box diagonal (so the probe itself stays cheap)."""
-    import gmsh
-    from gsi.meshes.file import check_readable
-    try:
-        check_readable(path, "structure")   # a binary file would harm gmsh's parser
-    except GsiInputError:
-        return None                         # the build reports it
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.onelab.clear()
-        if path.suffix.lower() == ".geo" and params:
-            gmsh.open(str(path))
-            names = [n for n in gmsh.onelab.getNames() if not n.startswith(("Gmsh/", "ONELAB/"))]
-            for k, v in params.items():
-                full = [n for n in names if n == k or n.rsplit("/", 1)[-1] == k]
-                if len(full) == 1 and isinstance(v, (int, float)) and not isinstance(v, bool):
-                    gmsh.onelab.setNumber(full[0], [float(v)])
-            gmsh.clear()
-        gmsh.open(str(path))
-        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(-1, -1)
-        ext = (x1 - x0, y1 - y0, z1 - z0)
-        box = [x0, y0, z0], [x1, y1, z1]
-        diag = math.sqrt(sum(e * e for e in ext))
-        if not (diag > 0 and math.isfinite(diag)):
-            return None
-        if path.suffix.lower() == ".msh":
-            n = len(gmsh.model.mesh.getNodes()[0])
-            return (*box, diag / max(1.0, math.sqrt(n)))
-        gmsh.option.setNumber("Mesh.MeshSizeMin", diag / 5000.0)
-        gmsh.model.mesh.generate(1)
-        length, segments = 0.0, 0
-        for dim, tag in gmsh.model.getEntities(1):
-            types, elems, nodes = gmsh.model.mesh.getElements(dim, tag)
-            k = sum(len(e) for e in elems)
-            if k:
-                a, b = gmsh.model.getParametrizationBounds(dim, tag)
-                x = gmsh.model.getValue(dim, tag, [a[0] + (b[0] - a[0]) * t / 64.0
-                                                   for t in range(65)])
-                pts = [x[3 * i:3 * i + 3] for i in range(65)]
-                length += sum(math.dist(pts[i], pts[i + 1]) for i in range(64))
-                segments += k
-        if segments == 0:
-            return None
-        return (*box, length / segments)
-    except Exception:     # a file gmsh cannot probe: the build reports it
+def structure_dofs(st, base_dir) -> dict | None:
+    """The estimated size of a structure before it is built, or None when unknown:
+    ``dofs`` (3 per node for the elasticity, 1 for the heat, in the structure's Lagrange
+    degree), ``how`` (words), its bounding box ``box`` ((lo, hi), m, after ``translate``)
+    and largest ``extent`` (m); from :func:`structure_footprint`."""
+    fp = structure_footprint(st, base_dir)
+    if fp is None:
         return None
-    finally:
-        gmsh.finalize()
+    comps = (3 if st.has_elasticity else 0) + (1 if st.has_heat else 0)
+    return dict(dofs=fp.dofs(st.degree, comps), how=fp.how,
+                box=(fp.lo.tolist(), fp.hi.tolist()), extent=fp.extent)
 
 
 def estimate(case, dt: float) -> dict:
@@ -145,7 +103,14 @@ def estimate(case, dt: float) -> dict:
     est = dict(particles=n, steps=steps, outputs=d / case.output.interval,
                checkpoints=d / max(ck, dt) if ck > 0 else 0.0,
                wall_s=max(n, 1) * steps / PARTICLE_STEPS_PER_S,
-               memory=n * BYTES_PER_PARTICLE, dofs={})
+               memory=n * BYTES_PER_PARTICLE, dofs={}, replay_s=0.0)
+    if any(w.motion.driven for w in case.walls):
+        est["wall_s"] = est["wall_s"] * DRIVEN_FACTOR + steps * DRIVEN_STEP_S
+    ex = case.extrapolation
+    if ex is not None:
+        samples = ex.periods * ex.period / (ex.every * dt)
+        est["replay_s"] = max(n, 1) * samples * REPLAY_S_PER_PARTICLE_SAMPLE
+        est["wall_s"] += est["replay_s"]
     for i, st in enumerate(case.structures):
         got = structure_dofs(st, case.base_dir) if st.has_elasticity or st.has_heat else None
         if got is not None:
@@ -199,29 +164,31 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
             raise GsiInputError(f"{q}monitors[{i}].interval = {m.interval:g}: {rows:.3g} rows "
                                 f"(limit {MAX_MONITOR_ROWS:.0e}); raise it")
     mem = _memory_bytes()
-    size = case.dem.domain_size
     for i, got in est["dofs"].items():
-        dofs, how, extent, box = got["dofs"], got["how"], got["extent"], got["box"]
-        if extent is not None and extent > 100 * size:
-            raise GsiInputError(
-                f"{q}structures[{i}].geometry: the structure is {extent:.3g} m across, over 100 x "
-                f"the domain ({size:.3g} m); did you give mm? lengths are in m")
+        dofs, how = got["dofs"], got["how"]
         need = dofs * FE_BYTES_PER_DOF
+        key = _mesh_size_key(case.structures[i], f"{q}structures[{i}]")
         if need > MEMORY_FACTOR * mem:
             raise GsiInputError(
-                f"{q}structures[{i}]: about {dofs:.3g} FE dofs ({how}) need about "
-                f"{need / 1e9:.3g} GB, over {MEMORY_FACTOR:g} x this machine's "
-                f"{mem / 1e9:.3g} GB; raise the mesh size (structures[{i}].geometry: h) or "
-                f"check its units (m)")
-        if box is not None and (any(h < lo for h, lo in zip(box[1], case.dem.domain_lo)) or
-                                any(lo > h for lo, h in zip(box[0], case.dem.domain_hi))):
-            raise GsiInputError(
-                f"{q}structures[{i}].translate = {list(case.structures[i].translate)}: the "
-                f"structure ({[round(v, 6) for v in box[0]]} to {[round(v, 6) for v in box[1]]})"
-                f" lies wholly outside dem.domain; particles never touch it: move it (m)")
+                f"{key}: about {dofs:.3g} FE dofs ({how}) need about {need / 1e9:.3g} GB, over "
+                f"{MEMORY_FACTOR:g} x this machine's {mem / 1e9:.3g} GB (and about "
+                f"{_hours(dofs * FE_SETUP_S_PER_DOF)} of set-up); raise the mesh size or check "
+                f"its units (m)")
         if dofs > WARN_DOFS and not quick:
-            said.append(f"structures[{i}]: about {dofs:.3g} FE dofs ({how}): expect about "
+            said.append(f"{key}: about {dofs:.3g} FE dofs ({how}): expect about "
                         f"{need / 1e9:.3g} GB and {_hours(dofs * FE_SETUP_S_PER_DOF)} of set-up")
+    ex = case.extrapolation
+    if ex is not None:
+        if ex.cells > max(est["particles"], 1):
+            raise GsiInputError(f"{q}extrapolation.cells = {ex.cells}: more Voronoi cells than "
+                                f"the {est['particles']:.3g} particles; each cell of the eq. 9 "
+                                f"error needs particles: use at most a tenth of them")
+        if est["replay_s"] > MAX_REPLAY_S:
+            raise GsiInputError(
+                f"{q}extrapolation.periods = {ex.periods}: the replay of {ex.periods:.3g} "
+                f"periods of {est['particles']:.3g} particles takes about "
+                f"{_hours(est['replay_s'])} (limit {_hours(MAX_REPLAY_S)}); check the "
+                f"period count (periods x period = {ex.periods * ex.period:.3g} s)")
     dem_bytes = est["particles"] * BYTES_PER_PARTICLE
     if dem_bytes > MEMORY_FACTOR * mem:
         raise GsiInputError(f"{q}particles: about {est['particles']:.3g} particles need about "
@@ -232,6 +199,16 @@ def check_sizes(case, dt: float, *, quick: bool = False) -> list[str]:
                     f"{est['particles']:.3g} particles, about {_hours(est['wall_s'])} on one "
                     f"thread and {est['memory'] / 1e9:.2g} GB")
     return said
+
+
+def _mesh_size_key(st, prefix: str) -> str:
+    """The key that sets a structure's mesh size: ``geometry.h`` (a builder, or a file
+    given h), the box builder's ``geometry.n`` without h, else the file."""
+    if st.mesh == "box" and "h" not in st.geometry:
+        return f"{prefix}.geometry.n"
+    if st.mesh is not None or "h" in st.geometry:
+        return f"{prefix}.geometry.h"
+    return f"{prefix}.file"
 
 
 def summary(est: dict) -> str:

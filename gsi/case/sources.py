@@ -40,7 +40,7 @@ from typing import Optional
 
 import numpy as np
 
-from gsi.case.regions import Region, _prefix
+from gsi.case.regions import Region, key_prefix
 from gsi.config.schema import between, nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 from gsi.case.particle_files import read_particle_file
@@ -80,7 +80,7 @@ class Size:
                                                 doc="number fractions (discrete)")
 
     def validate(self, path: str = "size") -> None:
-        p = _prefix(path)
+        p = key_prefix(path)
         need = {"single": ("radius",), "uniform": ("min", "max"), "normal": ("mean", "std"),
                 "discrete": ("values", "weights")}[self.kind]
         allowed = need + (("min", "max") if self.kind == "normal" else ())
@@ -178,7 +178,7 @@ class ParticleSource:
 
     def validate(self, path: str = "particles") -> None:
         """Keys match the fill; raise a one-line GsiInputError naming the key."""
-        p = _prefix(path)
+        p = key_prefix(path)
         uses = {"random": ("size", "region", "count", "volume_fraction"),
                 "lattice": ("size", "region", "count", "volume_fraction"),
                 "stream": ("size", "region", "rate", "start", "max_count"),
@@ -250,7 +250,7 @@ class ParticleSource:
             inserts).
         """
         from gsi.dem import insertion
-        p = _prefix(path)
+        p = key_prefix(path)
         if self.fill == "file":
             data = read_particle_file(pathlib.Path(base_dir) / self.file, key=f"{p}file",
                                       shown=self.file)
@@ -296,7 +296,7 @@ class ParticleSource:
         """Centres (k, 3) (m) of a lattice fill: the lowest ``count`` (or
         ``volume_fraction``) sites, or all (deterministic: no random numbers)."""
         from gsi.dem import insertion
-        p = _prefix(path)
+        p = key_prefix(path)
         x = insertion.lattice_fill(self.region.shape, self.size.largest)
         x = x[np.lexsort((x[:, 0], x[:, 1], x[:, 2]))]       # bottom layers first
         n = self.planned_count() if (self.count or self.volume_fraction) else None
@@ -335,7 +335,7 @@ class ParticleSource:
         parses, and its particles lie in the domain with radii > 0.
         """
         self.validate(path)
-        p = _prefix(path)
+        p = key_prefix(path)
         dlo, dhi = np.asarray(domain_lo, float), np.asarray(domain_hi, float)
         if self.fill == "file":
             data = read_particle_file(pathlib.Path(base_dir) / self.file, key=f"{p}file",

@@ -24,7 +24,9 @@ Every wall has a ``material``, a ``temperature`` (None = adiabatic) and a
 :class:`Motion`: ``fixed``, ``translation`` (``velocity``), ``rotation`` about ``axis``
 through ``centre`` at ``rpm`` or ``omega`` (rad/s; exactly one), or a ``schedule`` of
 :class:`MotionEvent` s, each holding from its ``t`` until the next (before the first
-event the wall is fixed).  Rotating shapes with an axis (cone, funnel, cylinder, drum)
+event the wall is fixed); or a motion the DEM drives step by step: ``oscillation``,
+``servo`` (holds a stress or force) or ``free`` (moved by the particles), see
+:mod:`gsi.case.driven_motion`.  Rotating shapes with an axis (cone, funnel, cylinder, drum)
 default the rotation's axis and centre to their own.  A plane cannot rotate.
 
 The torque a mesh wall reports is about its reference point: the rotation centre, else
@@ -58,7 +60,7 @@ from typing import Optional
 import numpy as np
 
 from gsi.case.motion import MOTION_KINDS, RPM, Motion, MotionEvent, next_event  # noqa: F401
-from gsi.case.regions import _prefix
+from gsi.case.regions import key_prefix
 from gsi.config.schema import nonnegative, one_of, param, positive
 from gsi.errors import GsiInputError
 
@@ -163,7 +165,7 @@ class Wall:
     # ---- validation
     def validate(self, path: str = "walls") -> None:
         """Keys match the kind; the motion suits the shape (a plane cannot rotate)."""
-        p = _prefix(path)
+        p = key_prefix(path)
         allowed, need = _KEYS[self.kind], _NEED[self.kind]
         defaults = {f.name: f.default for f in dataclasses.fields(self)}
         for key in _SHAPE_KEYS:
@@ -206,7 +208,8 @@ class Wall:
             if by_edges and np.linalg.norm(np.cross(self.edge_u, self.edge_v)) == 0:
                 raise GsiInputError(f"{p}edge_v = {list(self.edge_v)}: must be nonzero and not "
                                     f"parallel to edge_u = {list(self.edge_u)} (m)")
-        self.motion.validate(f"{p}motion", has_axis=self.kind in _AXIAL)
+        self.motion.validate(f"{p}motion", has_axis=self.kind in _AXIAL, planes=self._planes,
+                             box=self.kind == "box" and self.as_planes)
         if self.motion.rotates and self._planes:
             what = "a plane" if self.kind == "plane" else "a box of planes"
             fix = ("use kind = 'plate' (a mesh)" if self.kind == "plane"
@@ -291,7 +294,7 @@ class Wall:
 
     def _read_mesh(self, base_dir: pathlib.Path, path: str):
         from gsi.dem.walls import MeshWall
-        p = _prefix(path)
+        p = key_prefix(path)
         f = base_dir / self.file
         if not f.is_file():
             raise GsiInputError(f"{p}file = '{self.file}': no such file (looked in "
@@ -332,11 +335,17 @@ class Wall:
             w.set_motion(centre=self.reference_point(base_dir=base_dir))
             handles = [w]
         self.apply_motion(handles, sim.time)
+        if self.motion.driven:                # oscillation, servo, free: a driver per step
+            from gsi.case.driven_motion import make_driver
+            make_driver(self.motion, handles, sim, key=f"{path}.motion")
         return handles
 
     def apply_motion(self, handles, t: float) -> None:
         """Set the velocity, angular velocity and rotation centre of ``handles`` (from
-        :meth:`add_to`) to the motion's state at time ``t`` (s)."""
+        :meth:`add_to`) to the motion's state at time ``t`` (s); a driven motion's
+        driver sets them before every step instead."""
+        if self.motion.driven:
+            return
         axis = self._axis() if self.kind in _AXIAL else None
         centre = self.centre if self.kind in _AXIAL else None
         v, omega, c = self.motion.state_at(t, axis=axis, centre=centre)
@@ -358,8 +367,9 @@ class Wall:
         100 x its size ("did you give mm?"); no schedule event at or after ``duration``.
         """
         self.validate(path)
-        p = _prefix(path)
-        self.motion.check(f"{p}motion", duration=duration, has_axis=self.kind in _AXIAL)
+        p = key_prefix(path)
+        self.motion.check(f"{p}motion", duration=duration, has_axis=self.kind in _AXIAL,
+                          planes=self._planes, box=self.kind == "box" and self.as_planes)
         dlo, dhi = np.asarray(domain_lo, float), np.asarray(domain_hi, float)
         size = float(np.max(dhi - dlo))
         if self.kind == "plane":

@@ -58,7 +58,8 @@ def capture(sim):
     the step loop (whether the forces of the last step are valid: forces are NOT
     recomputed on a resume, since recomputing them advances the tangential springs),
     the random generator's bit-generator state (``rng.*``) and each inserter's
-    state (``ins<i>.*``). A simulation built the same way (same materials, walls and
+    state (``ins<i>.*``), each wall driver's state (``drv<i>``: next update, velocity,
+    a free wall's half-step velocity, a servo's gain). A simulation built the same way (same materials, walls and
     inserters) continues bit-identically after :func:`restore`.
     """
     d = sim.store.state()
@@ -77,6 +78,8 @@ def capture(sim):
         d.update({f"ins{i}.{k}": v for k, v in ins.state().items()})
     if sim.radiation is not None:
         d.update(sim.radiation.state())
+    for i, drv in enumerate(sim.drivers.items):       # walls that respond
+        d[f"drv{i}"] = drv.state()
     return d
 
 
@@ -119,3 +122,6 @@ def restore(sim, d):
                        if k.startswith(f"ins{i}.")})
     if sim.radiation is not None:
         sim.radiation.set_state(d)
+    for i, drv in enumerate(sim.drivers.items):
+        if f"drv{i}" in d:
+            drv.set_state(d[f"drv{i}"])

@@ -316,14 +316,14 @@ class ContactLog:
         Number of samples taken.
     """
 
-    _ROWS = ("pp_i", "pp_j", "pp_start", "pp_dur", "pp_size", "pw_i", "pw_wall", "pw_tri",
-             "pw_start", "pw_dur", "pw_size")
-    _PARTICLES = ("ids", "x0", "x1", "T0", "T1", "heat_capacity", "type")
-    _WALLS = ("coef", "wall_type", "wall_T", "wall_has_T")
-    _SCALARS = ("dt", "t0", "t1", "every", "split", "model", "samples")
+    ROWS = ("pp_i", "pp_j", "pp_start", "pp_dur", "pp_size", "pw_i", "pw_wall", "pw_tri",
+            "pw_start", "pw_dur", "pw_size")
+    PARTICLES = ("ids", "x0", "x1", "T0", "T1", "heat_capacity", "type")
+    WALLS = ("coef", "wall_type", "wall_T", "wall_has_T")
+    SCALARS = ("dt", "t0", "t1", "every", "split", "model", "samples")
 
     def __init__(self, **fields):
-        for k in self._ROWS + self._PARTICLES + self._WALLS + self._SCALARS:
+        for k in self.ROWS + self.PARTICLES + self.WALLS + self.SCALARS:
             setattr(self, k, fields[k])
 
     # ------------------------------------------------------------------ sizes
@@ -343,7 +343,7 @@ class ContactLog:
 
     def row_bytes(self) -> int:
         """Bytes of the row arrays (as stored in the file, uncompressed)."""
-        return sum(getattr(self, k).nbytes for k in self._ROWS)
+        return sum(getattr(self, k).nbytes for k in self.ROWS)
 
     def bytes_per_collision(self) -> float:
         """Row bytes per row (the particle data at t0 and t1 not counted)."""
@@ -367,8 +367,8 @@ class ContactLog:
     def save(self, path) -> int:
         """Write an ``.npz`` (uncompressed); returns its size in bytes."""
         path = pathlib.Path(path)
-        d = {k: getattr(self, k) for k in self._ROWS + self._PARTICLES + self._WALLS}
-        d.update({k: np.asarray(getattr(self, k)) for k in self._SCALARS})
+        d = {k: getattr(self, k) for k in self.ROWS + self.PARTICLES + self.WALLS}
+        d.update({k: np.asarray(getattr(self, k)) for k in self.SCALARS})
         np.savez(path, **d)
         if path.suffix != ".npz":
             path = path.with_name(path.name + ".npz")
@@ -383,7 +383,7 @@ class ContactLog:
         except (OSError, ValueError) as exc:
             raise GsiInputError(f"contact log file {str(path)!r}: cannot read it ({exc})") \
                 from None
-        missing = [k for k in cls._ROWS + cls._PARTICLES + cls._WALLS + cls._SCALARS
+        missing = [k for k in cls.ROWS + cls.PARTICLES + cls.WALLS + cls.SCALARS
                    if k not in d]
         if missing:
             raise GsiInputError(f"contact log file {str(path)!r}: not a contact log (no "

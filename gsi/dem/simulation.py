@@ -11,6 +11,8 @@ Usage::
     floor = sim.add_plane(point=(0, 0, 0), normal=(0, 0, 1), material="glass")
     wall = sim.add_mesh_wall(vertices, triangles, material="glass")  # or add_mesh_wall_file
     wall.set_motion(velocity=(0, 0, 0), omega=(0, 0, 1.0), centre=(0, 0, 0))
+    from gsi.dem.wall_drivers import Oscillation, Servo, FreeWall   # walls that respond
+    sim.drivers.add(Servo(floor, target=2e3, area=0.01, max_speed=0.05))  # 2 kPa on 0.01 m^2
     sim.add_inserter(region, rate=1000.0, radius=Uniform(1e-3, 1.5e-3), material="glass",
                      velocity=(0, 0, -1), max_count=5000)
     sim.step(1000)
@@ -60,6 +62,7 @@ from gsi.dem.log_control import ContactLogControl
 from gsi.dem.state import empty_pairs
 from gsi.dem.step_codes import StepFlags
 from gsi.dem.storage import ParticleStore, ParticleViews
+from gsi.dem.wall_drivers import WallDrivers
 from gsi.dem.wall_registry import Walls, WallViews
 from gsi.dem.walls import MeshWall, vec3
 
@@ -129,8 +132,7 @@ class Simulation(ParticleViews, WallViews):
                                         pipe_resistance=pipe_resistance,
                                         pair_overrides=pair_overrides)
         self.materials, self.table = self.material_set.materials, self.material_set.table
-        # the engine of these laws, and its logging variant (:attr:`engine`)
-        self.frictional_heating = fh = bool(frictional_heating)
+        self.frictional_heating = fh = bool(frictional_heating)   # engines: :attr:`engine`
         self._engines = tuple(get_engine(contact, rolling, heat, lg, fh) for lg in (False, True))
         self.contact, self.rolling, self.heat = contact, rolling, heat
         self.k_n, self.h_c = k_n, h_c
@@ -150,6 +152,7 @@ class Simulation(ParticleViews, WallViews):
         self.next_id = 0                # the id the next particle gets
         self.store = ParticleStore(16)
         self.walls = Walls(self.store)
+        self.drivers = WallDrivers()      # walls that respond: sim.drivers.add(driver)
         self.pairs = empty_pairs(0)
         self.inserters = []
         self.n_rebuilds = 0

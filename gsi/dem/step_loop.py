@@ -63,6 +63,9 @@ def _chunks(sim, remaining):
         chunk = min([remaining] + [ins.steps_to_next() for ins in sim.inserters])
         if sim.radiation is not None:     # applied at T_n over its interval
             chunk = min(chunk, sim.radiation.step_due())
+        if sim.drivers:                   # walls that respond: up to their next update
+            chunk = min(chunk, sim.drivers.steps_due(sim.step_count) if skip
+                        else sim.drivers.drive(sim))    # (a resumed step has moved its walls)
         sim.log.state.ctrl[clog.C_STEP] = sim.step_count
         half_skin2 = (0.5 * sim.list_skin) ** 2
         done, code, info = sim.engine.advance(chunk, skip, sim.dt, sim.g, half_skin2, vmax2,

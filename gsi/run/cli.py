@@ -53,7 +53,7 @@ def info() -> str:
     return "\n".join(lines)
 
 
-def _parser() -> argparse.ArgumentParser:
+def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="gsi", description="granular-structure interaction toolkit")
     p.add_argument("--version", action="version", version=f"gsi {gsi.__version__}")
     p.add_argument("-v", "--verbose", action="count", default=0,
@@ -114,7 +114,7 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 def main(argv: list[str] | None = None) -> int:
     import warnings
-    args = _parser().parse_args(argv)
+    args = parser().parse_args(argv)
     _library_logs(args.verbose + getattr(args, "verbose_run", 0))
     with warnings.catch_warnings():      # restores the caller's filters and showwarning
         warnings.simplefilter("ignore", DeprecationWarning)   # libraries' notes to developers
@@ -131,7 +131,7 @@ def _main(args, argv=None) -> int:
             return _check(args)
         if args.command == "run":
             return _run(args, argv)
-        _parser().print_help()
+        parser().print_help()
         return 0
     except GsiInputError as exc:
         return _report(exc, f"error: {_one_line(exc)}", EXIT_INPUT)
@@ -183,6 +183,8 @@ def _check(args) -> int:
     case = load_case(args.case)
     dt = case.check()
     est = summary(estimate(case, dt))
+    from gsi.case.biot_check import check_biot_at_start
+    check_biot_at_start(case, dt)          # a warning when Bi is not << 1
     print(f"{args.case}: ok (case '{case.case.name}': {len(case.particles)} particle "
           f"source(s), {len(case.walls)} wall(s), {len(case.structures)} structure(s), "
           f"{len(case.monitors)} monitor(s); dt = {dt:.3g} s)")

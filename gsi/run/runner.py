@@ -54,6 +54,7 @@ import time
 import numpy as np
 
 from gsi.errors import GsiInputError, GsiRunError
+from gsi.case.biot_check import check_biot
 from gsi.case.build_dem import build_simulation
 from gsi.dem.engine import is_cached as engine_is_cached
 from gsi.case.fingerprint import fingerprint
@@ -174,6 +175,8 @@ class Runner:
         self.n_total = max(1, int(round(case.run.duration / self.dt)))
         if self.is_root:
             self.sim, self.handles, self.groups = build_simulation(case, dt=self.dt)
+            if not self.resume:
+                check_biot(case, self.sim)      # a warning when Bi is not << 1 at the start
         err = agree(self.comm, self.root, None)
         if err:
             raise err

@@ -124,7 +124,7 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
               heat: str = "area", seed: int = 3, facets: int | None = None,
               extrapolation: bool = False, spin_up: float = 1.0, period_turns: float = 1.0,
               periods: int = 6, every: int = 10, dt_split: float = 0.01,
-              name: str | None = None, skin: float | None = None):
+              name: str | None = None, skin: float | None = None, dt: float = DT):
     """The drum as a :class:`gsi.case.Case`: materials of seed 003 Tables 3-4, a closed
     ``drum`` wall (adiabatic) at rest for ``settle`` seconds and then turning once per
     ``geometry.period``, and a lattice fill of ``geometry.particles`` spheres from the
@@ -155,6 +155,10 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
     skin : float, optional
         ``dem.skin`` (m; default gsi's, 0.4 particle radii). Only the neighbour lists
         depend on it (more candidates, fewer rebuilds); results agree to round-off.
+    dt : float
+        ``run.dt`` (s; default :data:`DT`). The turns stay whole numbers of
+        ``geometry.steps_per_turn`` steps; a test changes it by 1e-12 relative to change
+        only the round-off of every step (tests/validation/conftest.py).
     """
     from gsi.case import (Case, CaseInfo, Dem, Material, Output, ParticleSource, Region,
                           Run, Size, Wall)
@@ -187,7 +191,7 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
                       description=f"seed-003 drum, {geometry.particles} spheres of r = 5 mm, "
                                   f"R = {R:.4g} m, {geometry.period:.4g} s per turn "
                                   f"(Fr = {geometry.froude:.3g}, {geometry.regime})"),
-        run=Run(duration=end if duration is None else duration, dt=DT, seed=seed,
+        run=Run(duration=end if duration is None else duration, dt=dt, seed=seed,
                 progress=False),
         dem=Dem(contact="hertz", rolling=True, heat=heat, gravity=(0.0, 0.0, -G), skin=skin,
                 domain_lo=(round(-R - margin, 6), -margin, round(-R - margin, 6)),
@@ -205,7 +209,7 @@ def drum_case(geometry: DrumGeometry, *, settle: float = 1.0, duration: float | 
 
 def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0,
             seed: int = 3, state: str | None = None, chunk: int = 5000, say=None,
-            timing: dict | None = None, skin: float | None = None):
+            timing: dict | None = None, skin: float | None = None, dt: float = DT):
     """Fill, settle and spin up a drum of the family (the paper's set-up before t0).
 
     The lattice fill settles with the drum at rest for ``settle`` s; then the left half
@@ -222,7 +226,7 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     ``timing`` (a dict), if given, receives ``spin_seconds`` and ``spin_steps``: the wall
     seconds and steps of the turning drum, summed over all the runs that made this
     set-up (kept in the state file), so the spin-up's own rate can be reported.
-    ``skin`` is :func:`drum_case`'s.
+    ``skin`` and ``dt`` are :func:`drum_case`'s.
 
     Returns
     -------
@@ -236,7 +240,7 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     import time
     from gsi.case.build_dem import build_simulation
     say = say or (lambda m: None)
-    case = drum_case(geometry, settle=settle, seed=seed, skin=skin)
+    case = drum_case(geometry, settle=settle, seed=seed, skin=skin, dt=dt)
     dt = case.check()
     sim, handles, _ = build_simulation(case, dt=dt)
     n_settle = int(round(settle / dt))

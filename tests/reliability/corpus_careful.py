@@ -119,3 +119,85 @@ DATA = {
 DATA_BYTES = {
     "bom_heap.csv": b"\xef\xbb\xbfx,y,z,radius\n0.02,0.02,0.05,0.002\n0.03,0.03,0.05,0.002\n",
 }
+
+
+def spec_structures(H, B, T, K, S2, PB, D, P) -> dict:
+    """FE structures: where their bodies lie (outside the domain, through the particles
+    placed at the start) and the size of their meshes (every builder and gmsh file gets an
+    estimate in ``gsi check``). Bases: H hopper_membrane (membrane builder), B belt_hopper
+    (a .geo), T thermal_silo (silo), K kiln (drum), S2 two_structures (hopper + membrane),
+    PB plate_on_block (two boxes, a particle file), D drum (an STL wall turning at 10 rpm),
+    P pour."""
+    MEM = 'mesh = "membrane"\ngeometry'
+    CONE_FILL = ('fill = "random"\ncount = 2000\nsize = { kind = "single", radius = 0.01 }\n'
+                 'region = { kind = "cylinder", centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4 }')
+    HOP = 'translate = [0.0, 0.0, 0.3]'
+    BELT = 'tags = { contact = "belt_top"'
+    MSH = (B, [('file = "../../../meshes/belt.geo"', 'file = "data/belt.msh"'),
+               ("geometry = { length = 0.8, width = 0.3, thickness = 0.02, h = 0.06, layers = 1 }\n", "")])
+    KILN_MESH = 'mesh = "drum"'
+    PLATE = "length_z = 0.01, h = 0.01 }"
+    SHELL = ('mesh = "hopper"\ngeometry = { top_radius = 0.24, outlet_radius = 0.07, height = 0.3, thickness = 0.005, h = 0.04 }\ntranslate = [0.0, 0.0, 0.3]',
+             'mesh = "shell"\ngeometry = { radius = 0.2, height = 0.2, thickness = 0.005, hopper_height = 0.1, outlet_radius = 0.07, h = 0.04 }\ntranslate = [0.0, 0.0, 0.4]')
+    return {
+        # ---- a structure through the particles placed at the start
+        "membrane_through_fill": (H, [(MEM, 'mesh = "membrane"\ntranslate = [0.0, 0.0, 0.7]\ngeometry')], "particles[0].region", "check", "the membrane builder's plate through the random fill"),
+        "hopper_structure_through_fill": (S2, [(HOP, "translate = [0.0, 0.0, 0.7]")], "particles[0].region", "check", "the hopper builder's shell through the fill"),
+        "geo_belt_through_fill": (B, [(BELT, "translate = [0.0, 0.0, 0.5]\n" + BELT)], "particles[0].region", "check", "a .geo belt moved into the fill's cylinder"),
+        "silo_wall_through_fill": (T, [("radius = 0.045, length = 0.1", "radius = 0.06, length = 0.1")], "particles[0].region", "check", "a fill wider than the silo builder's wall"),
+        "kiln_lattice_through_shell": (K, [("radius = 0.059, length = 0.115", "radius = 0.07, length = 0.115")], "particles[0].region", "check", "lattice sites inside the drum builder's shell"),
+        "file_particles_inside_block": (PB, [('"../../../demos/data/plate_particles.csv"', '"data/inside_block.csv"')], "particles[0].file", "check", "particle file rows inside the block structure"),
+        "file_particle_cut_by_plate": (PB, [('"../../../demos/data/plate_particles.csv"', '"data/cut_by_plate.csv"')], "particles[0].file", "check", "a row 2 mm above the plate, radius 5 mm"),
+        "msh_through_fill": (MSH[0], MSH[1] + [(BELT, "translate = [0.0, 0.0, 0.5]\n" + BELT)], "particles[0].region", "check", "a .msh belt through the fill"),
+        "ok_fill_resting_on_membrane": (H, [("centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4", "centre = [0.0, 0.0, 0.016], radius = 0.06, length = 0.2"), ("count = 2000", "count = 100"), ("particles = [ { count = 400 } ]", "particles = [ { count = 50 } ]")], "-", "ok", "a fill region standing on the membrane (centres a radius above it)"),
+        "ok_plate_particles_touching": (PB, [], "-", "ok", "file particles resting on the plate (distance = radius)"),
+        "ok_msh_structure": (MSH[0], MSH[1], "-", "ok", "a structure from a .msh file"),
+        # ---- a structure outside the domain
+        "membrane_outside_domain": (H, [(MEM, 'mesh = "membrane"\ntranslate = [0.0, 0.0, 5.0]\ngeometry')], "structures[0].translate", "check", "a builder's membrane 5 m above the domain"),
+        "kiln_shell_outside_domain": (K, [(KILN_MESH, KILN_MESH + "\ntranslate = [1.0, 0.0, 0.0]")], "structures[0].translate", "check", "the drum builder's shell 1 m beside the domain"),
+        "msh_in_mm": (B, [('file = "../../../meshes/belt.geo"', 'file = "data/belt_mm.msh"'), ("geometry = { length = 0.8, width = 0.3, thickness = 0.02, h = 0.06, layers = 1 }\n", "")], "structures[0].file", "check", "a .msh written in mm: 800 m across"),
+        # ---- a builder's values refused only when meshing before (at the run's start)
+        "hopper_structure_outlet_wider": (S2, [("top_radius = 0.24, outlet_radius = 0.07, height = 0.3", "top_radius = 0.24, outlet_radius = 0.3, height = 0.3")], "structures[0].geometry.outlet_radius", "check", "a hopper structure whose outlet is wider than its top"),
+        "membrane_shape_misspelt": (H, [('shape = "circle"', 'shape = "circel"')], "structures[0].geometry.shape", "check", "a misspelt membrane shape"),
+        # ---- the mesh size of every builder
+        "membrane_h_tiny": (H, [("h = 0.06, n_thickness", "h = 0.0002, n_thickness")], "structures[0].geometry.h", "check", "membrane builder at h = 0.2 mm: 3e8 dofs"),
+        "membrane_h_5mm_warns": (H, [("h = 0.06, n_thickness", "h = 0.005, n_thickness")], "structures[0].geometry.h", "warn", "membrane builder at h = 5 mm: about 5e5 dofs"),
+        "silo_h_tiny": (T, [("bottom = \"flat\", h = 0.008", "bottom = \"flat\", h = 0.00005")], "structures[0].geometry.h", "check", "silo builder at h = 0.05 mm"),
+        "kiln_drum_h_tiny": (K, [("thickness = 0.005, h = 0.012", "thickness = 0.005, h = 0.00005")], "structures[0].geometry.h", "check", "drum builder at h = 0.05 mm"),
+        "hopper_h_tiny": (S2, [("thickness = 0.005, h = 0.04", "thickness = 0.005, h = 0.0002")], "structures[0].geometry.h", "check", "hopper builder at h = 0.2 mm"),
+        "box_h_tiny": (PB, [("length_z = 0.05, h = 0.0125", "length_z = 0.05, h = 0.0001")], "structures[1].geometry.h", "check", "box builder at h = 0.1 mm: 5e8 cells"),
+        "box_n_huge": (PB, [(PLATE, "length_z = 0.01, n = [2000, 2000, 200] }")], "structures[0].geometry.n", "check", "box builder of 8e8 cells given by n"),
+        "ok_box_by_n": (PB, [(PLATE, "length_z = 0.01, n = [10, 10, 1] }")], "-", "ok", "box builder given its cells"),
+        "ok_shell_structure": (S2, [SHELL], "-", "ok", "the shell builder (its own dof count; a thickness passed before gave a TypeError)"),
+        # ---- walls moving faster than the particles' stiffness allows (the overlap of a
+        # particle hit at the wall's surface speed, as the stiffness check for free fall)
+        "drum_rpm_1e6": (D, [("rpm = 10.0 }", "rpm = 1.0e6 }")], "walls[0].motion.rpm", "check", "a drum at 1e6 rpm (1e4 m/s at its wall)"),
+        "gate_velocity_2000": (H, [("velocity = [2.0, 0.0, 0.0]", "velocity = [2000.0, 0.0, 0.0]")], "walls[1].motion.events[0].velocity", "check", "a gate opening at 2 km/s (mm/s typed as m/s)"),
+        "ok_drum_rpm_60": (D, [("rpm = 10.0 }", "rpm = 60.0 }")], "-", "ok", "a drum at 60 rpm"),
+        # ---- errors that named the wrong key before (the material's E)
+        "gravity_in_mm": (P, [("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, -9810.0]")], "dem.gravity", "check", "g in mm/s^2 (refused before as 'glass E too soft')"),
+        "velocity_in_mm": (P, [("velocity = [0.0, 0.0, -0.5]", "velocity = [0.0, 0.0, -500.0]")], "particles[0].velocity", "check", "an initial speed in mm/s (refused before as 'glass E too soft')"),
+        "ok_gravity_centrifuge_50g": (P, [("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, -490.5]"), ("E = 5.0e6", "E = 5.0e8")], "-", "ok", "a centrifuge at 50 g"),
+        # ---- a traction above the structure's modulus
+        "traction_above_E": (H, [('supports = ["support"]   # the clamped rim', 'supports = ["support"]   # the clamped rim\nloads = [ { tag = "contact", traction = [0.0, 0.0, -5.0e9] } ]')], "structures[0].loads[0].traction", "check", "a 5 GPa traction on a rubber membrane (E 2 MPa)"),
+        "ok_traction_500Pa": (H, [('supports = ["support"]   # the clamped rim', 'supports = ["support"]   # the clamped rim\nloads = [ { tag = "contact", traction = [0.0, 0.0, -500.0] } ]')], "-", "ok", "a 500 Pa traction on the membrane"),
+        # ---- the extrapolation's sizes (kiln: 2 h of 0.5 s periods replayed)
+        "kiln_periods_1e12": (K, [("periods = 14400 ", "periods = 1000000000000 ")], "extrapolation.periods", "check", "1e12 periods replayed: about 1e5 h (ran until killed)"),
+        "kiln_cells_1e9": (K, [("cells = 200\n", "cells = 1000000000\n")], "extrapolation.cells", "check", "1e9 Voronoi cells for 640 particles"),
+        # ---- random fills and particle files against shaped walls (lattices were checked)
+        "random_fill_through_cone": (H, [("centre = [0.0, 0.0, 0.56], radius = 0.19, length = 0.4", "centre = [0.0, 0.0, 0.31], radius = 0.19, length = 0.5")], "particles[0].region", "check", "a random fill through the cone and its gate"),
+        "random_fill_through_funnel": (B, [("centre = [0.0, 0.0, 0.45], radius = 0.14", "centre = [0.0, 0.0, 0.3], radius = 0.14")], "particles[0].region", "check", "a random fill through the funnel's cone"),
+        "file_row_cut_by_cone": (H, [(CONE_FILL, 'fill = "file"\nfile = "data/cone_cut.csv"'), ("particles = [ { count = 400 } ]", "")], "particles[0].file", "check", "a particle file row on the cone's surface"),
+        "ok_file_rows_inside_cone": (H, [(CONE_FILL, 'fill = "file"\nfile = "data/cone_ok.csv"'), ("particles = [ { count = 400 } ]", "")], "-", "ok", "particle file rows inside the cone"),
+        "ok_random_fill_above_cone": (H, [("centre = [0.0, 0.0, 0.56], radius = 0.19", "centre = [0.0, 0.0, 0.62], radius = 0.3"), ("radius = 0.3, length = 0.4", "radius = 0.3, length = 0.35")], "-", "ok", "a random fill wider than the cone, wholly above its rim"),
+    }
+
+
+DATA_STRUCTURES = {
+    # plate_on_block: the block spans z in [-0.0495, 0.0005], the plate [0, 0.01]
+    "inside_block.csv": "x,y,z,radius,T\n-0.03,-0.03,0.015,0.005,800\n0.0,0.0,-0.02,0.005,800\n",
+    "cut_by_plate.csv": "x,y,z,radius,T\n-0.03,-0.03,0.015,0.005,800\n0.01,0.01,0.012,0.005,800\n",
+    # hopper_membrane's cone: radius 0.07 + (z - 0.3) 0.17/0.3, i.e. 0.155 at z = 0.45
+    "cone_cut.csv": "x,y,z,radius\n0.0,0.0,0.45,0.01\n0.155,0.0,0.45,0.01\n",
+    "cone_ok.csv": "x,y,z,radius\n0.0,0.0,0.45,0.01\n0.1,0.0,0.45,0.01\n",
+}

@@ -22,11 +22,13 @@ def _base(name: str) -> str:
         lines.pop(0)
     text = "\n".join(lines) + "\n"
     return (text.replace('"data/drum.stl"', '"../../../demos/data/drum.stl"')
-            .replace('"../meshes/belt.geo"', '"../../../meshes/belt.geo"'))
+            .replace('"../meshes/belt.geo"', '"../../../meshes/belt.geo"')
+            .replace('"data/plate_particles.csv"', '"../../../demos/data/plate_particles.csv"'))
 
 
 P, D, H, B, T, R = (_base(n) for n in ("pour", "drum", "hopper_membrane", "belt_hopper",
                                        "thermal_silo", "thermal_silo_radiation"))
+K, S2, PB = (_base(n) for n in ("kiln", "two_structures", "plate_on_block"))
 STREAM = P.replace('fill = "random"\ncount = 2000', 'fill = "stream"\nrate = 20000.0\nmax_count = 2000')
 PLANE = '\n[[walls]]\nname = "floor"\nkind = "plane"\nmaterial = "glass"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n'
 FILE_SRC = P.replace('fill = "random"\ncount = 2000\nvelocity = [0.0, 0.0, -0.5]\nsize = { kind = "uniform", min = 0.0018, max = 0.0022 }\nregion = { kind = "box", lo = [0.0, 0.0, 0.05], hi = [0.06, 0.06, 0.15] }',
@@ -115,6 +117,17 @@ SPEC = {
     "pairs_unknown_material": (D, [('materials = ["grain", "drum_wall"]', 'materials = ["grain", "drumwall"]')], "pairs[0].materials", "check", "pair of an undefined material"),
     # ---- walls
     "plane_rotates": (P + PLANE + 'motion = { kind = "rotation", axis = [1.0, 0.0, 0.0], centre = [0.03, 0.03, 0.0], rpm = 10.0 }\n', [], "walls[1].motion.kind", "check", "a plane that rotates"),
+    "oscillation_no_frequency": (P + PLANE + 'motion = { kind = "oscillation", amplitude = 0.001 }\n', [], "walls[1].motion.frequency", "check", "an oscillation without its frequency"),
+    "oscillation_with_max_speed": (P + PLANE + 'motion = { kind = "oscillation", amplitude = 0.001, frequency = 20.0, max_speed = 0.1 }\n', [], "walls[1].motion.max_speed", "check", "a servo key on an oscillation"),
+    "servo_plane_without_area": (P + PLANE + 'motion = { kind = "servo", stress = 500.0, max_speed = 0.1 }\n', [], "walls[1].motion.area", "check", "a servo plane without the area of its stress"),
+    "servo_two_targets": (P + PLANE + 'motion = { kind = "servo", stress = 500.0, force = 1.0, area = 0.0036, max_speed = 0.1 }\n', [], "walls[1].motion.stress", "check", "a servo with a stress and a force"),
+    "servo_without_max_speed": (P + PLANE + 'motion = { kind = "servo", force = 1.0, area = 0.0036 }\n', [], "walls[1].motion.max_speed", "check", "a servo without its largest speed"),
+    "servo_box_of_planes": (P, [('hi = [0.06, 0.06, 0.2]\n', 'hi = [0.06, 0.06, 0.2]\nmotion = { kind = "servo", force = 1.0, area = 0.0036, max_speed = 0.1 }\n')], "walls[0].motion.kind", "check", "a servo box of planes"),
+    "servo_gain_unstable": (P + PLANE.replace('point = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]', 'point = [0.0, 0.0, 0.19]\nnormal = [0.0, 0.0, -1.0]') + 'motion = { kind = "servo", force = 1.0, area = 0.0036, max_speed = 0.1, gain = 1000.0 }\n', [], "walls[1].motion.gain", "check", "a servo gain above its stability limit"),
+    "free_plane_hinged": (P + PLANE + 'motion = { kind = "free", inertia = 1.0, axis = [1.0, 0.0, 0.0], centre = [0.0, 0.0, 0.0] }\n', [], "walls[1].motion.axis", "check", "a free plane on a hinge"),
+    "free_without_mass": (P + PLANE + 'motion = { kind = "free", damper = 1.0 }\n', [], "walls[1].motion.mass", "check", "a free wall without mass"),
+    "free_negative_mass": (P + PLANE + 'motion = { kind = "free", mass = -1.0 }\n', [], "walls[1].motion.mass", "check", "a free wall of negative mass"),
+    "wall_motion_monitor_of_a_fixed_wall": (P + '\n[[monitors]]\nname = "lid"\nkind = "wall_motion"\ntarget = "box"\n', [], "monitors[2].target", "check", "a wall_motion monitor on a wall that is not driven"),
     "box_of_planes_rotates": (P, [('hi = [0.06, 0.06, 0.2]\n', 'hi = [0.06, 0.06, 0.2]\nmotion = { kind = "rotation", axis = [0.0, 0.0, 1.0], centre = [0.03, 0.03, 0.0], rpm = 5.0 }\n')], "walls[0].motion.kind", "check", "a box of planes that rotates"),
     "plane_faces_away": (P + PLANE.replace("point = [0.0, 0.0, 0.0]", "point = [0.0, 0.0, 0.3]"), [], "walls[1].point", "check", "a plane whose inside misses the domain"),
     "rotation_rpm_and_omega": (D, [("rpm = 10.0 }", "rpm = 10.0, omega = 1.0 }")], "walls[0].motion.rpm", "check", "rotation with rpm and omega"),
@@ -180,10 +193,36 @@ DATA = {
 }
 
 
-from corpus_careful import DATA as DATA_CAREFUL, DATA_BYTES, spec  # noqa: E402
+from corpus_careful import DATA as DATA_CAREFUL, DATA_BYTES, DATA_STRUCTURES, spec, spec_structures  # noqa: E402
 
 SPEC.update(spec(P, D, H, B, T, PLANE, FILE_SRC))
+SPEC.update(spec_structures(H, B, T, K, S2, PB, D, P))
 DATA.update(DATA_CAREFUL)
+DATA.update(DATA_STRUCTURES)
+
+
+def _write_msh(path: pathlib.Path, scale: float) -> None:
+    """meshes/belt.geo meshed coarsely (h = 0.1 m) as an ASCII .msh; ``scale`` 1000 writes
+    it in mm (a unit slip)."""
+    import gmsh
+    geo = HERE.parents[1] / "meshes" / "belt.geo"
+    values = dict(length=0.8, width=0.3, thickness=0.02, h=0.1)
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(str(geo))
+        for n in gmsh.onelab.getNames():
+            last = n.rsplit("/", 1)[-1]
+            if last in values:
+                gmsh.onelab.setNumber(n, [values[last] * scale])
+        gmsh.clear()
+        gmsh.open(str(geo))
+        gmsh.model.mesh.generate(3)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.option.setNumber("Mesh.Binary", 0)
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
 
 
 def main() -> None:
@@ -195,6 +234,8 @@ def main() -> None:
         (CASES / "data" / name).write_text(text)
     for name, raw in DATA_BYTES.items():
         (CASES / "data" / name).write_bytes(raw)
+    _write_msh(CASES / "data" / "belt.msh", 1.0)
+    _write_msh(CASES / "data" / "belt_mm.msh", 1000.0)
     for name, (base, edits, key, via, what) in SPEC.items():
         text = base
         for old, new in edits:

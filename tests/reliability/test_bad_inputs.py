@@ -38,7 +38,8 @@ OK = [c for c in CASES if _header(c)[1] == "ok"]
 #: through the real command as well (a new interpreter; the issue's "tracebacks" items)
 SUBPROCESS = ["non_utf8", "count_1e9", "count_float_1e9", "E_1Pa", "structure_geometry_string",
               "structure_geo_string", "dt_0p7_rayleigh", "stream_rate_1e12", "skin_10m",
-              "case_name_dotdot", "particle_file_overlap", "not_toml"]
+              "case_name_dotdot", "particle_file_overlap", "not_toml",
+              "geo_h_tiny"]
 
 
 def _assert_one_error_line(rc, err: str, key: str, name: str) -> None:

@@ -4,7 +4,9 @@
 * no upward import: each package sits on a layer (:data:`LAYERS`) and imports only its
   own layer or lower ones; ``gsi.dem`` and ``gsi.fem`` never import each other;
 * no file in gsi/ over :data:`MAX_FILE_LINES` lines, no class over :data:`MAX_CLASS_LINES`
-  (the DEM engine's files, owned by the engine work, are exempt: :data:`ENGINE_OWNED`).
+  (the DEM engine's files, owned by the engine work, are exempt: :data:`ENGINE_OWNED`);
+* no object reaches into another one's private fields, in gsi/, tests/ and demos/
+  (:func:`private_access`).
 
 Run as a script it prints the two figures of issue 29 for any checkout::
 
@@ -239,6 +241,60 @@ def test_no_two_modules_share_a_name_for_different_things():
             seen.setdefault(f.name, []).append(f.relative_to(ROOT).as_posix())
     repeated = {n: sorted(p) for n, p in seen.items() if len(p) > 1 and n not in SHARED_NAMES}
     assert repeated == {}
+
+
+#: private names of other objects that are public by their own library's convention:
+#: namedtuple's API (_fields, _replace, _asdict, _make), os._exit, argparse's _actions
+#: (argparse has no public way to list a parser's options)
+FOREIGN_PRIVATE = {"_fields", "_replace", "_asdict", "_make", "_exit", "_actions"}
+
+#: the one module allowed to reach into dolfinx's objects (calls that differ by version)
+COMPAT = "gsi/fem/compat.py"
+
+
+def private_access(root: pathlib.Path = ROOT, folders=("gsi", "tests", "demos")) -> list:
+    """Every ``x._name`` where ``x`` is not ``self``, ``cls`` or ``super()``, and every
+    ``from gsi... import _name``, in the given folders: one object reaching into another's
+    private fields (issue 29: collaborators talk through public methods, tests and demos
+    use the public API)."""
+    hits = []
+    for folder in folders:
+        for f in sorted((root / folder).rglob("*.py")):
+            rel = f.relative_to(root).as_posix()
+            if rel == COMPAT:
+                continue
+            for node in ast.walk(ast.parse(f.read_text())):
+                if isinstance(node, ast.Attribute) and _is_private(node.attr):
+                    v = node.value
+                    own = (isinstance(v, ast.Name) and v.id in ("self", "cls")) or (
+                        isinstance(v, ast.Call) and isinstance(v.func, ast.Name)
+                        and v.func.id == "super")
+                    if not own and node.attr not in FOREIGN_PRIVATE:
+                        hits.append(f"{rel}:{node.lineno}: {ast.unparse(node)}")
+                elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("gsi"):
+                    hits += [f"{rel}:{node.lineno}: from {node.module} import {a.name}"
+                             for a in node.names if _is_private(a.name)]
+    return hits
+
+
+def _is_private(name: str) -> bool:
+    return name.startswith("_") and not name.startswith("__")
+
+
+def test_no_object_reaches_into_another_ones_private_fields():
+    assert private_access() == []
+
+
+def test_the_private_access_scan_finds_what_it_looks_for(tmp_path):
+    (tmp_path / "gsi").mkdir()
+    (tmp_path / "gsi" / "a.py").write_text(
+        "from gsi.b import _helper\n"
+        "class A:\n    def f(self, sim):\n        self._ok = super()._g()\n"
+        "        return sim._rebuild(), P._fields\n")
+    for d in ("tests", "demos"):
+        (tmp_path / d).mkdir()
+    assert private_access(tmp_path) == ["gsi/a.py:1: from gsi.b import _helper",
+                                        "gsi/a.py:5: sim._rebuild"]
 
 
 def test_the_figures_are_computed():

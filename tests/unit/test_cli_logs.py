@@ -27,6 +27,6 @@ def test_library_info_lines_only_with_verbose(verbose, shown):
 
 
 def test_verbose_option_on_gsi_and_gsi_run():
-    from gsi.run.cli import _parser
-    assert _parser().parse_args(["-v", "info"]).verbose == 1
-    assert _parser().parse_args(["run", "-vv", "x.toml"]).verbose_run == 2
+    from gsi.run.cli import parser
+    assert parser().parse_args(["-v", "info"]).verbose == 1
+    assert parser().parse_args(["run", "-vv", "x.toml"]).verbose_run == 2

@@ -93,7 +93,14 @@ def test_validation_page_says_when_results_are_missing(tmp_path, monkeypatch):
         '"reference": 0.5, "measured": 0.4999, "tolerance": 0.01, "kind": "rel", '
         '"outcome": "passed", "date": "d", "host": "h", "commit": "c"}]}')
     page = mod.validation_page()
-    assert "| restitution | 0.5 | 0.4999 | -2.00e-04 (rel.) | 0.01 (rel) | passed |" in page
+    assert "| restitution | 0.5 | 0.4999 | -2.00e-04 (rel.) | 0.01 (rel) |  | passed |" in page
+    # a paper's goal beside the bound (shown, not asserted)
+    (tmp_path / "tests" / "validation" / "results.json").write_text(
+        '{"records": [{"name": "eq. 10", "test": "tests/validation/t.py::a", '
+        '"reference": 0.15, "measured": 0.09, "tolerance": 0.15, "kind": "bound", '
+        '"goal": "seed 003: <= 5 %", "outcome": "passed", "date": "d", "host": "h", '
+        '"commit": "c"}]}')
+    assert "| 0.15 (bound) | seed 003: <= 5 % | passed |" in mod.validation_page()
 
 
 def test_literate_demo_becomes_prose_and_code():

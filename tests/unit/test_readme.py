@@ -10,7 +10,7 @@ import tomllib
 import pytest
 
 from gsi.case import case_from_table
-from gsi.run.cli import _parser
+from gsi.run.cli import parser
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 README = (ROOT / "README.md").read_text()
@@ -47,10 +47,10 @@ def test_gsi_commands_exist():
     block = _between("readme-commands")
     commands = re.findall(r"^gsi (\w+)(.*?)(?:#|$)", block, re.M)
     assert {c for c, _ in commands} >= {"run", "check", "info"}
-    sub = next(a for a in _parser()._actions if a.dest == "command")
+    sub = next(a for a in parser()._actions if a.dest == "command")
     for name, rest in commands:
-        parser = sub.choices[name]
-        known = {o for a in parser._actions for o in a.option_strings}
+        command = sub.choices[name]
+        known = {o for a in command._actions for o in a.option_strings}
         for opt in re.findall(r"--[\w-]+", rest):
             assert opt in known, f"gsi {name} has no {opt}"
 

@@ -1,28 +1,53 @@
 """Long-time heat extrapolation (Haydar, Martin & Bonnefoy 2023, "seed 003") in the
-rotating drum of gsi.studies.drum, against gsi's own full DEM of the same drum.
+rotating drum of gsi.studies.drum, against gsi's own full DEM of the same drum, judged on
+an ensemble (tests/validation/conftest.py).
 
-Default suite: demos/drum_extrapolation.toml in its quick form, run by ``gsi run``'s
-runner -- 640 particles in R = 0.06 m at the reference Froude number 0.048 (cascading), a
-quarter turn as the period (the seed extrapolates by quarter, half and full turns, its
-Figs. 13-15), six periods extrapolated and run as full DEM, sampling n = 10 with
-Delta t_c^max = 0.01 s.  Checked:
+Default suite: the quick drum of demos/drum_extrapolation.toml -- 640 particles in
+R = 0.06 m at the reference Froude number 0.048 (cascading), settled 0.5 s, a quarter
+turn (5,590 steps) as the period (the seed extrapolates by quarter, half and full turns,
+its Figs. 13-15), sampling n = 10 with Delta t_c^max = 0.01 s. The demo's case itself
+runs once through ``gsi run``'s runner in its quick form, with the reference DEM cut to
+one period (``compare_periods = 1``; the replay still runs six): its ``extrapolation.csv``
+and ``contact_log.npz`` are checked for what holds on any trajectory (conservation, the
+log's wall rows).
 
-- the contact log holds the DEM's conduction: replayed through the identity (no
-  pairing) from the temperatures at t0, it gives the DEM's temperatures at t1;
-- the DEM (adiabatic wall) and the replay conserve sum m c_p T to 1e-12;
-- the mean temperatures of the initially hot and cold halves (the seed's Fig. 7):
-  extrapolated against full DEM within 2 % of their gap at every t_n;
-- eq. 10 (the heat moved in each period) within 10 %, and eq. 9 on 200 Voronoi cells
-  within 5 K on average over the periods.  These two are bounds for this small drum, not
-  the seed's targets (its Table 5: eps_rel <= 3.1 %, eps_abs <= 0.25 K with 400
-  particles per cell; eq. 10 <= 5 %): with 640 particles a cell holds 3 particles and
-  compares single particles' temperatures.  Measured here (2026-12-03): eq. 10 at most
-  6.4 %, eq. 9 2.9-4.5 K; with the pairing inverted, 42 % and up to 12.7 K; with no
-  pairing, 67 % and 11.9 K.  Eq. 9 is checked against its sampling level too (the error
-  of other particles with the same temperatures in each cell): within 2 times it
-  (measured 0.97-1.46 times, 1 and 2 threads).  The seed's targets are checked at the CI
-  size (5,000 particles, full turns) in the slow test.
+The flow is chaotic: one trajectory is one sample, and a change of summation order gives
+another (the single-run form of this test failed on a faster CPU, its hot/cold gap
+0.306 K off against a 0.192 K bound, and on 5 of 6 neighbouring trajectories
+dt x (1 + k 1e-12)). So M = 4 realisations are run: after the settling, member k's
+positions are moved by up to k x 0.5 nm (conftest.perturb), the drum turns a quarter turn
+to t0, one period is logged and extrapolated for P = 3 periods, and the DEM runs on as
+the reference. Beside it, the DEM's own chaos is the yardstick (the "twin"): a second DEM
+from t1 with every position moved by up to 1 nm, compared with the reference by the same
+eq. 9 -- the error of a prediction as good as the DEM itself.
+
+Checked (claims on the ensemble mean, bound = mean +- 3 SE, conftest):
+
+- per member (deterministic claims, true on any trajectory): the log replayed through the
+  identity (no pairing) from t0 gives the DEM's t1; sum m c_p T conserved to 1e-12 by the
+  DEM and the replay; eq. 9 of the library (k-d tree cells) equal to a brute-force
+  nearest-seed computation from the raw fields, and eps_rel = eps_abs/|T_hot - T_cold|
+  with T_hot, T_cold from the DEM's raw temperatures;
+- eq. 9: eps_abs(extrapolation) <= 1.5 eps_abs(twin) at t3 and t4. At t2 the twin is one
+  period from its 1 nm and has not reached the flow's full chaos: there the bound is 2
+  (ratio of the ensemble means measured 1.50-1.57 at t2, 1.08-1.19 at t3, t4; M = 4 at
+  dt and at dt (1 + 1e-12));
+- the hot and cold means (the seed's Fig. 7): the halves do mix, and the extrapolated gap
+  T_hot - T_cold stays within 10 % of the DEM's at every t_n (ensemble means measured
+  0.5-2.5 %, mean + 3 SE at most 5.5 %; the single-run test's 2 % was one trajectory: the
+  CI host's gave 2.4-3.7 % at t5-t7, and the members' sd reaches 2 % at t4);
+- eq. 10 (heat moved per period): the seed's 5 % per period (its Fig. 10: 0.1-4.5 %) is
+  the goal, not met at 640 particles: ensemble means per period -2 % to -10 % (the
+  extrapolation moves more heat than the DEM; the members' means over t2..t4 -8.2 % +-
+  3.0 % and -6.3 % +- 1.0 %, M = 4, at dt and dt (1 + 1e-12)), so it is asserted only as
+  a regression bound: 25 % for the ensemble mean + 3 SE of |mean over the periods| (a
+  pairing inverted or left out gives 42 % and 67 %).
+
+The seed's Table 5 (80,000 particles, 400 per cell: eps_abs 0.241 ... 0.03 K, eps_rel
+<= 3.1 %) is shown as the goal on the validation page; at 640 particles (3 per cell)
+eps_abs is 3-5 K, set by the particle-scale scatter that the twin DEM shows as well.
 """
+import dataclasses
 import pathlib
 
 import numpy as np
@@ -30,75 +55,189 @@ import pytest
 
 from gsi.case import load_case
 from gsi.dem.contact_log import ContactLog
-from gsi.studies.drum import drum_geometry, prepare
-from gsi.extrapolation import Replay, compare_with_dem, period_errors, voronoi_seeds
 from gsi.run import run_case
+
+from gsi.studies.drum import DT, drum_geometry, prepare
+from gsi.extrapolation import Replay, compare_with_dem, period_errors, voronoi_seeds
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CASE = ROOT / "demos" / "drum_extrapolation.toml"
+M, PERIODS = 4, 3
+#: sd floors (conftest): about the smallest member spreads measured on four ensembles
+#: (M = 3 and 4, at dt and dt (1 + 1e-12), 2026-12-04: sd 0.25-0.70 K, 0.005-0.024,
+#: 0.02-0.06)
+SD_EPS_EXCESS = 0.25       # K, eps_abs(extra) - 1.5 eps_abs(twin)
+SD_GAP = 0.006             # relative gap difference
+SD_EQ10 = 0.02             # eq. 10
 
 
 @pytest.fixture(scope="module")
-def quick_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("drum_extrapolation")
-    r = run_case(load_case(CASE), out=out, quick=True, pictures=False, verbose=False)
-    csv = np.genfromtxt(out / "extrapolation.csv", delimiter=",", names=True)
-    return r, out, csv, ContactLog.load(out / "contact_log.npz")
-
-
-def test_the_quick_drum_is_the_family_at_the_seed_froude_number(quick_run):
-    r, _, csv, log = quick_run
+def ensemble(ens):
     g = drum_geometry(640)
+    sim, hot, case = prepare(g, settle=0.5, spin_up=0.0, dt=DT * ens.DT_SCALE)
+    start = sim.state()
+    quarter = g.steps_per_turn // 4
+    members = []
+    for k in range(M):
+        sim.set_state(start)
+        ens.perturb(sim.x, k)
+        sim.step(quarter)                                       # spin-up to t0
+        r = compare_with_dem(sim, period_steps=quarter, periods=PERIODS,
+                             samplings=((10, 0.01),), hot=hot, twin=1e-9)
+        run, dem = r["runs"][0], r["dem"]
+        h = hot[run["log"].ids]
+        members.append(dict(
+            run=run, dem=dem, seeds=r["seeds"], hot=h,
+            gap_dem=dem["T"][:, h].mean(1) - dem["T"][:, ~h].mean(1),
+            gap_ext=run["T"][:, h].mean(1) - run["T"][:, ~h].mean(1)))
+    return g, members, case
+
+
+def test_the_quick_drum_is_the_family_at_the_seed_froude_number(ensemble, ens):
+    g, members, _ = ensemble
     assert g.regime == "cascading" and g.froude == pytest.approx(0.0483, abs=2e-4)
     assert drum_geometry(80_000).period == pytest.approx(5.0)
+    for m in members:
+        log = m["run"]["log"]
+        assert log.n_particles == 640 and (log.every, log.split) == (10, 100)
+        assert log.period == pytest.approx(g.steps_per_turn // 4 * DT * ens.DT_SCALE)
+        assert m["dem"]["T"].shape == (PERIODS + 1, 640)
+    # the members are distinct realisations: their t1 differs
+    assert not np.array_equal(members[0]["run"]["log"].x1, members[1]["run"]["log"].x1)
+
+
+def test_logged_period_replays_the_dems_conduction(ensemble):
+    for m in ensemble[1]:
+        log = m["run"]["log"]
+        T = Replay(log, sigma=np.arange(log.n_particles)).run(1, T=log.T0)["T"][1]
+        dT = np.abs(log.T1 - log.T0)
+        moved = (dT.sum() - np.abs(T - log.T0).sum()) / dT.sum()     # eq. 10 on the period
+        assert abs(moved) <= 3e-3
+        err = np.abs(T - log.T1)
+        assert err.mean() <= 1e-2 * dT.mean() and err.max() <= 5e-2 * dT.max()
+
+
+def test_heat_is_conserved_by_the_dem_and_the_replay(ensemble):
+    for m in ensemble[1]:
+        log, run, dem = m["run"]["log"], m["run"], m["dem"]
+        assert dem["energy_drift"].max() <= 1e-12 and run["energy_drift"].max() <= 1e-12
+        E0 = log.heat_capacity @ log.T0
+        assert abs(log.heat_capacity @ log.T1 - E0) <= 1e-12 * abs(E0)
+
+
+def _brute_cell_error(seeds, x_a, T_a, x_b, T_b):
+    """eq. 9's eps_abs with the nearest seed found by brute force (all distances)."""
+    def means(x, T):
+        cell = np.argmin(((x[:, None, :] - seeds[None]) ** 2).sum(2), axis=1)
+        out = np.full(len(seeds), np.nan)
+        for c in np.unique(cell):
+            out[c] = T[cell == c].mean()
+        return out
+    a, b = means(x_a, T_a), means(x_b, T_b)
+    both = np.isfinite(a) & np.isfinite(b)
+    return np.abs(a[both] - b[both]).mean()
+
+
+def test_eq9_from_the_raw_fields(ensemble):
+    """The library's eq. 9 (k-d tree cells, period_errors) against a brute-force
+    computation from the raw positions and temperatures of the DEM and the replay."""
+    m = ensemble[1][0]
+    run, dem, seeds, h = m["run"], m["dem"], m["seeds"], m["hot"]
+    for n in range(1, PERIODS + 1):
+        e = _brute_cell_error(seeds, dem["x"][n], dem["T"][n], run["x"][n], run["T"][n])
+        gap = abs(dem["T"][n][h].mean() - dem["T"][n][~h].mean())
+        assert run["eps_abs"][n - 1] == pytest.approx(e, rel=1e-12)
+        assert run["eps_rel"][n - 1] == pytest.approx(e / gap, rel=1e-12)
+    # the measure sees a wrong field: the DEM against itself is 0, against the
+    # temperatures of t1 (no conduction) it is not
+    assert _brute_cell_error(seeds, dem["x"][1], dem["T"][1], dem["x"][1], dem["T"][1]) == 0
+    assert _brute_cell_error(seeds, dem["x"][2], dem["T"][2], dem["x"][2], dem["T"][0]) > 0.1
+
+
+def test_extrapolation_error_within_the_dems_own_chaos(ensemble, ens, record_validation):
+    """eps_abs(extrapolation) <= 1.5 eps_abs(twin) at every t_n, on the ensemble."""
+    members = ensemble[1]
+    ext = np.array([m["run"]["eps_abs"] for m in members])
+    twin = np.array([m["dem"]["twin"]["eps_abs"] for m in members])
+    s = ens.stat(ext - 1.5 * twin, SD_EPS_EXCESS)
+    s2 = ens.stat(ext - 2.0 * twin, SD_EPS_EXCESS)
+    ratio = ext.mean(0) / twin.mean(0)
+    print(f"eps_abs extra {ens.stat(ext).text()} K; twin {ens.stat(twin).text()} K;"
+          f" ratio of means {np.round(ratio, 3)}; excess {s.text()} K")
+    record_validation("quick drum (640, M = 4): eps_abs(extra)/eps_abs(twin DEM) of the "
+                      "ensemble means at t3, t4", reference=1.5,
+                      measured=float(ratio[1:].max()), tolerance=1.5, kind="bound",
+                      note="mean + 3 SE of eps_abs(extra) - 1.5 eps_abs(twin) <= 0 at t3, t4 "
+                           "(2 at t2)", source="the DEM's own chaos (twin DEM, 1 nm at t1)",
+                      goal="seed 003 Table 5 (80,000): eps_abs 0.241 .. 0.03 K")
+    # t3, t4: within 1.5 times the DEM's own chaos; t2, one period after the twin's 1 nm,
+    # before that has grown to the flow's full chaos: within 2 times (measured 1.51-1.54)
+    assert (s.upper()[1:] <= 0.0).all(), s.text()
+    assert s2.upper()[0] <= 0.0, s2.text()
+
+
+def test_hot_and_cold_means_follow_the_full_dem(ensemble, ens, record_validation):
+    members = ensemble[1]
+    gd = np.array([m["gap_dem"] for m in members])
+    ge = np.array([m["gap_ext"] for m in members])
+    mix = ens.stat(gd[:, -1] / gd[:, 0], 0.01)
+    assert (mix.upper() < 0.8).all(), mix.text()                 # the halves do mix
+    s = ens.stat(np.abs(ge - gd)[:, 1:] / gd[:, 1:], SD_GAP)
+    print(f"|gap_ext - gap_dem|/gap_dem at t2..t4: {s.text()}; gap_dem/gap_dem(t1) at the"
+          f" end {mix.text()}")
+    record_validation("quick drum (640, M = 4): |gap_extra - gap_DEM|/gap_DEM of the hot and "
+                      "cold means, largest ensemble mean + 3 SE", reference=0.10,
+                      measured=float(s.upper().max()), tolerance=0.10, kind="bound",
+                      source="seed 003 Fig. 7")
+    assert (s.upper() <= 0.10).all(), s.text()
+
+
+def test_heat_moved_per_period_eq10(ensemble, ens, record_validation):
+    members = ensemble[1]
+    e = np.array([m["run"]["energy_error"] for m in members])
+    s = ens.stat(np.abs(e.mean(1)), SD_EQ10)
+    print(f"eq. 10 (signed) at t2..t4: {ens.stat(e).text()}; |mean over the periods| "
+          f"{s.text()}")
+    record_validation("quick drum (640, M = 4): eq. 10, |mean over t2..t4|, ensemble mean "
+                      "+ 3 SE", reference=0.25, measured=float(s.upper()), tolerance=0.25,
+                      kind="bound", source="seed 003 eq. 10",
+                      goal="seed 003 Fig. 10: 0.1-4.5 % per period (<= 5 %); not met at 640 "
+                           "particles", note="regression bound; the seed's 5 % is the goal")
+    assert s.upper() <= 0.25, s.text()
+
+
+@pytest.fixture(scope="module")
+def demo_run(tmp_path_factory):
+    """demos/drum_extrapolation.toml, quick, through the runner; one period of reference."""
+    out = tmp_path_factory.mktemp("drum_extrapolation")
+    case = load_case(CASE).quick_variant()
+    xp = dataclasses.replace(case.extrapolation, compare_periods=1)
+    case.extrapolation = xp
+    case.run = dataclasses.replace(case.run, duration=xp.end())
+    r = run_case(case, out=out, pictures=False, verbose=False)
+    csv = np.genfromtxt(out / "extrapolation.csv", delimiter=",", names=True)
+    return case, r, out, csv, ContactLog.load(out / "contact_log.npz")
+
+
+def test_the_demo_case_writes_a_conserving_extrapolation(demo_run):
+    case, r, out, csv, log = demo_run
     assert r.n_particles == 640 and r.n_lost == 0
-    assert log.period == pytest.approx(g.steps_per_turn // 4 * 1e-4)
     assert len(csv) == 7 and (log.every, log.split) == (10, 100)
-
-
-def test_logged_period_replays_the_dems_conduction(quick_run):
-    log = quick_run[3]
-    T = Replay(log, sigma=np.arange(log.n_particles)).run(1, T=log.T0)["T"][1]
-    dT = np.abs(log.T1 - log.T0)
-    moved = (dT.sum() - np.abs(T - log.T0).sum()) / dT.sum()     # eq. 10 on the period
-    assert abs(moved) <= 3e-3
-    err = np.abs(T - log.T1)
-    assert err.mean() <= 1e-2 * dT.mean() and err.max() <= 5e-2 * dT.max()
-
-
-def test_heat_is_conserved_by_the_dem_and_the_replay(quick_run):
-    _, _, csv, log = quick_run
-    assert csv["energy_drift"].max() <= 1e-12
+    assert log.period == pytest.approx(drum_geometry(640).steps_per_turn // 4 * DT)
+    assert csv["energy_drift"][:2].max() <= 1e-12
     E0 = log.heat_capacity @ log.T0
     assert abs(log.heat_capacity @ log.T1 - E0) <= 1e-12 * abs(E0)
-    Tm = csv["T_mean_dem"]
+    Tm = csv["T_mean_extra"]
     assert np.abs(Tm - Tm[0]).max() <= 1e-12 * abs(Tm[0])
-    np.testing.assert_allclose(csv["T_mean_extra"], Tm, rtol=1e-12)
+    np.testing.assert_allclose(csv["T_mean_dem"][:2], Tm[:2], rtol=1e-12)
+    assert np.isnan(csv["T_mean_dem"][2:]).all()              # one period of reference
+    gap = csv["T_hot_extra"] - csv["T_cold_extra"]
+    assert (np.diff(gap) < 0).all()                             # the replay mixes the halves
 
 
-def test_hot_and_cold_means_follow_the_full_dem(quick_run):
-    csv = quick_run[2]
-    gap_dem = csv["T_hot_dem"] - csv["T_cold_dem"]
-    gap_ext = csv["T_hot_extra"] - csv["T_cold_extra"]
-    assert gap_dem[-1] < 0.7 * gap_dem[0]                       # the halves do mix
-    assert np.abs(gap_ext - gap_dem).max() <= 0.02 * gap_dem.min()
-
-
-def test_seed_error_measures_on_the_small_drum(quick_run):
-    csv = quick_run[2]
-    assert np.abs(csv["energy_error"][1:]).max() <= 0.10
-    assert np.mean(csv["eps_abs"][1:]) <= 5.0
-    eps_rel = csv["eps_abs"][1:] / (csv["T_hot_dem"] - csv["T_cold_dem"])[1:]
-    np.testing.assert_allclose(csv["eps_rel"][1:], eps_rel, rtol=1e-12)
-    # cells of 3 particles: eq. 9 is about the error of other particles with the same
-    # temperatures in each cell (gsi.extrapolation.cell_sampling_level)
-    ratio = csv["eps_abs"][1:] / csv["eps_level"][1:]
-    assert (ratio <= 2.0).all(), ratio
-
-
-def test_log_records_wall_contacts_with_their_triangles(quick_run):
-    _, out, _, log = quick_run
-    n_tri = len(load_case(CASE).quick_variant().walls[0].triangles())
+def test_log_records_wall_contacts_with_their_triangles(demo_run):
+    case, _, out, _, log = demo_run
+    n_tri = len(case.walls[0].triangles())
     assert len(log.pw_i) > 0 and (log.pw_wall == 0).all()       # the drum, a mesh wall
     assert log.pw_tri.min() >= 0 and log.pw_tri.max() < n_tri
     assert not log.wall_has_T.any()                             # adiabatic
@@ -124,7 +263,8 @@ def test_every_step_sampling_replays_the_dems_conduction():
 @pytest.mark.slow
 def test_ci_size_drum_against_the_full_dem():
     """5,000 particles in R = 0.1191 m (Fr 0.048), one turn per period, six periods, n = 1
-    and n = 10, Delta t_c^max = 0.01 s (about 45 min on this machine).
+    and n = 10, Delta t_c^max = 0.01 s (about 45 min on this machine). One realisation:
+    a regression check, not an ensemble claim (the ensemble is the quick test's).
 
     The seed's targets (Table 5, 80,000 particles, 400 per Voronoi cell: eps_rel <= 3.1 %,
     eps_abs <= 0.25 K; eq. 10 <= 5 %) are not met at this size.  Measured

@@ -85,3 +85,24 @@ def test_no_heat_no_report():
     case = load_case(GRADED / "case1_free_fall.toml")
     assert case.dem.heat == "none"
     assert check_biot(case, None) is None
+
+
+def test_gsi_check_and_gsi_run_warn_naming_the_material_and_the_value(capsys, tmp_path):
+    """``gsi check`` (which builds the DEM at t = 0) and ``gsi run`` (after the set-up)
+    call check_biot: one ``warning:`` line with dem.heat, the material and Bi = 0.199."""
+    from gsi.cli import main
+    path = GRADED / "case4_two_particles.toml"
+    assert main(["check", str(path)]) == 0
+    err = capsys.readouterr().err
+    warned = [ln for ln in err.splitlines() if ln.startswith("warning: ")]
+    assert len(warned) == 1, err
+    assert "dem.heat = 'radius'" in warned[0] and "copper" in warned[0]
+    assert "Bi = H/(k pi R) = 0.199" in warned[0]
+    case = load_case(path)
+    from gsi.run import run_case
+    with pytest.warns(BiotWarning, match=r"'radius'.*= 0.199 .*copper"):
+        run_case(case, out=tmp_path / "run", quick=True, pictures=False, verbose=False)
+    # a case whose contacts are light: no warning from either
+    light = GRADED / "case5_hot_block.toml"
+    assert main(["check", str(light)]) == 0
+    assert "warning" not in capsys.readouterr().err

@@ -158,7 +158,7 @@ def test_rows_are_the_contacts_of_every_sample(reference, every, dt_split):
 def test_growing_log_gives_the_same_rows():
     small, _ = run_logged(1, 2 * DT, capacity=1)        # grows at nearly every sample
     big, _ = run_logged(1, 2 * DT)
-    for k in ContactLog._ROWS:
+    for k in ContactLog.ROWS:
         assert np.array_equal(getattr(small, k), getattr(big, k)), k
 
 
@@ -166,7 +166,7 @@ def test_file_round_trip(tmp_path):
     log, _ = run_logged(2, 6 * DT)
     size = log.save(tmp_path / "log.npz")
     back = ContactLog.load(tmp_path / "log.npz")
-    for k in ContactLog._ROWS + ContactLog._PARTICLES + ContactLog._WALLS:
+    for k in ContactLog.ROWS + ContactLog.PARTICLES + ContactLog.WALLS:
         assert np.array_equal(getattr(back, k), getattr(log, k)), k
     assert (back.dt, back.every, back.split, back.model) == (DT, 2, 6, "area")
     n_pp, n_pw = len(log.pp_i), len(log.pw_i)
