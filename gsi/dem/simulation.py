@@ -59,7 +59,7 @@ from gsi.dem import checks, step_loop
 from gsi.dem.checkpoint_state import capture, restore
 from gsi.dem.lists import adaptive_skin, build_lists
 from gsi.dem.log_control import ContactLogControl
-from gsi.dem.state import empty_pairs
+from gsi.dem.state import FRICTION_FIELDS, empty_pairs
 from gsi.dem.step_codes import StepFlags
 from gsi.dem.storage import ParticleStore, ParticleViews
 from gsi.dem.wall_drivers import WallDrivers
@@ -150,7 +150,7 @@ class Simulation(ParticleViews, WallViews):
         self.step_count = 0
         self.n_lost = 0
         self.next_id = 0                # the id the next particle gets
-        self.store = ParticleStore(16)
+        self.store = ParticleStore(16, unused=() if fh else FRICTION_FIELDS)
         self.walls = Walls(self.store)
         self.drivers = WallDrivers()      # walls that respond: sim.drivers.add(driver)
         self.pairs = empty_pairs(0)

@@ -56,6 +56,11 @@ PARTICLE_FIELDS = {
     "td": ((3,), np.float64),        # this step's dissipative torque x dt (N m s)
 }
 
+#: particle fields only frictional heating uses: a simulation without it stores them with
+#: no rows (the kernels touch them only when it is on), so they cost no memory and no
+#: copying at a list build (bytes per particle: benchmarks/settle.py)
+FRICTION_FIELDS = ("heat_friction", "fd", "td")
+
 #: per-particle wall-contact state: name -> (trailing shape, dtype)
 WALL_CONTACT_FIELDS = {
     "plane_hist": (("npl", 3), np.float64),  # tangential spring per plane (m)

@@ -27,9 +27,15 @@ class ParticleStore:
     """Arrays of every per-particle field, grown by doubling.
 
     ``n_planes`` and ``slots`` size the wall-contact fields whose trailing shape names
-    ``"npl"`` (one spring per plane) or ``"S"`` (the triangle-contact slots)."""
+    ``"npl"`` (one spring per plane) or ``"S"`` (the triangle-contact slots). Particle
+    fields named in ``unused`` are kept with no rows (their views are empty): the fields
+    of a feature that is off (:data:`gsi.dem.state.FRICTION_FIELDS`)."""
 
-    def __init__(self, capacity: int = 16):
+    def __init__(self, capacity: int = 16, *, unused=()):
+        self.unused = frozenset(unused)
+        unknown = self.unused - set(PARTICLE_FIELDS)
+        if unknown:
+            raise ValueError(f"ParticleStore: unknown fields {sorted(unknown)}")
         self.n = 0
         self.capacity = 0
         self.n_planes = 0
@@ -49,9 +55,10 @@ class ParticleStore:
         """Re-allocate every field at capacity ``cap`` (the first n rows kept)."""
         for store, fields in self._stores():
             for name, (trail, dtype) in fields.items():
-                arr = np.zeros(self._shape(cap, trail), dtype)
+                rows = 0 if store is self.particle and name in self.unused else cap
+                arr = np.zeros(self._shape(rows, trail), dtype)
                 old = store.get(name)
-                if old is not None and self.n:
+                if old is not None and self.n and rows:
                     src = old[: self.n]
                     sl = tuple(slice(0, min(a, b)) for a, b in zip(src.shape, arr.shape))
                     arr[sl] = src[sl]
@@ -116,17 +123,22 @@ class ParticleStore:
         """Remove the rows where ``mask`` (n,) is true (the others keep their order)."""
         keep = ~mask
         nk = int(keep.sum())
-        for store, _ in self._stores():
-            for arr in store.values():
-                arr[:nk] = arr[: self.n][keep]
+        for arr in self._rows():
+            arr[:nk] = arr[: self.n][keep]
         self.n = nk
 
     def permute(self, perm) -> None:
         """Re-order the rows: new row m is old row ``perm[m]``."""
         n = self.n
+        for arr in self._rows():
+            arr[:n] = arr[:n][perm]
+
+    def _rows(self):
+        """Every field array that has rows (not those in ``unused``)."""
         for store, _ in self._stores():
             for arr in store.values():
-                arr[:n] = arr[:n][perm]
+                if len(arr):
+                    yield arr
 
     def view(self, name: str):
         """The first n rows of particle field ``name``."""
@@ -160,7 +172,10 @@ class ParticleStore:
         self.allocate(max(16, n))
         # fields added later (frictional heat) start at 0 from older checkpoints
         for k in PARTICLE_FIELDS:
-            self.particle[k][:n] = d.get(f"p.{k}", 0)
+            if k in self.unused:
+                continue
+            v = d.get(f"p.{k}")        # a field unused when the checkpoint was made: 0
+            self.particle[k][:n] = 0 if v is None or len(v) != n else v
         for k in WALL_CONTACT_FIELDS:
             self.wall[k][:n] = d.get(f"wc.{k}", 0)
         self.overflow[:] = d["wc.overflow"]
