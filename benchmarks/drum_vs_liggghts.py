@@ -168,7 +168,11 @@ def run_liggghts(work, ranks, values):
     cmd = ["liggghts", "-in", "in.drum", "-log", "log.drum"]
     if ranks > 1:
         cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)] + cmd
-    out = subprocess.run(cmd, cwd=work, capture_output=True, text=True)
+    # this process has MPI up (mpi4py, through gsi): a child mpirun must not inherit its
+    # singleton's OpenMPI/PMIx variables, or it exits with rc 1 and no output
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_"))}
+    out = subprocess.run(cmd, cwd=work, capture_output=True, text=True, env=env)
     if out.returncode != 0:
         raise SystemExit(f"error: LIGGGHTS failed (rc {out.returncode}), see {work}/log.drum:\n"
                          + out.stdout[-2000:] + out.stderr[-2000:])
