@@ -40,6 +40,7 @@ from gsi.dem.contact.lanes import CH, NB, A2, RI, RJ, DTEMP, Q
 from gsi.dem.contact.model import (evaluate_heat, model_ids, M_HEAT, M_LOG, M_ROLLING,
                                    M_FRICTION, NORMAL, ROLLING, HEAT)
 from gsi.dem.contact_geometry import spheres_touch, wall_radius2, plane_distance
+from gsi.dem.fast_call import FastCall
 from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample, empty_log_state
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
                                reduce_scans, verdict)
@@ -339,6 +340,12 @@ def _wall_conductance(B, ri, delta, tab, row, model):
 _NO_LOG = empty_log_state()
 
 
+#: :func:`advance` and :func:`heat_conductance_sum` without numba's re-typing of the
+#: bundles at each call (:mod:`gsi.dem.fast_call`)
+fast_advance = FastCall(advance)
+fast_heat_sum = FastCall(heat_conductance_sum)
+
+
 class Engine:
     """The compiled engine bound to one contact model (:func:`get_engine`).
 
@@ -354,19 +361,19 @@ class Engine:
     def advance(self, nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs,
                 pl, M, wc, table, lg):
         """Run up to ``nsteps`` steps (see :func:`advance`)."""
-        return advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs,
-                       pl, M, wc, table, lg, self.model)
+        return fast_advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P,
+                            pairs, pl, M, wc, table, lg, self.model)
 
     def compute_forces(self, g, P, pairs, pl, M, wc, table):
         """Forces, torques and the contact springs' rotation at the current state, no
         motion, no heat update (dt = 0): the start of a run and after external changes
         (:func:`advance` with ``nsteps`` = :data:`FORCES_ONLY`)."""
-        advance(FORCES_ONLY, False, 0.0, g, 0.0, 0.0, g, g, P, pairs, pl, M, wc, table,
-                _NO_LOG, self.model)
+        fast_advance(FORCES_ONLY, False, 0.0, g, 0.0, 0.0, g, g, P, pairs, pl, M, wc, table,
+                     _NO_LOG, self.model)
 
     def heat_conductance_sum(self, P, pairs, pl, M, wc, table):
         """Per-particle conductance sums (see :func:`heat_conductance_sum`)."""
-        return heat_conductance_sum(P, pairs, pl, M, wc, table, self.model)
+        return fast_heat_sum(P, pairs, pl, M, wc, table, self.model)
 
 
 def is_cached():
