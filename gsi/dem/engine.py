@@ -43,9 +43,9 @@ from gsi.dem.contact_geometry import spheres_touch, wall_radius2, plane_distance
 from gsi.dem.fast_call import FastCall
 from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample, empty_log_state
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
-                               reduce_scans, verdict)
-from gsi.dem.pair_lanes import gather_pairs, finish_pairs
-from gsi.dem.wall_lanes import gather_walls, finish_walls, plane_count
+                               friction_correction, reduce_scans, verdict)
+from gsi.dem.pair_lanes import gather_pairs, finish_pairs, friction_pairs
+from gsi.dem.wall_lanes import gather_walls, finish_walls, friction_walls, plane_count
 from gsi.dem.state import (Particles, Pairs, Planes, Mesh, WallContacts, as_tuple,
                            MAX_WALL_SLOTS)
 from gsi.dem.wall_kernels import move_walls, plane_sums, mesh_scatter
@@ -73,7 +73,8 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     M = Mesh(*Mt)
     wc = WallContacts(*wct)
     # frictional heat also heats the particles (T += dt Q/(m c_p))
-    heat_on = model[M_HEAT] != 0 or model[M_FRICTION] != 0
+    fric_on = model[M_FRICTION] != 0
+    heat_on = model[M_HEAT] != 0 or fric_on
     roll_on = model[M_ROLLING] != 0
     # pair batch: lanes, lane -> pair row, partner, table row; batch rows and their lanes
     B = np.zeros(NB * CH)     # zeros: see gsi.dem.contact.model.evaluate
@@ -101,6 +102,8 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
             if n == uint(CH) or nrow == CH:
                 finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt,
                              model, heat_on)
+                if fric_on:
+                    friction_pairs(nrow, brow, blane, n, B, lj, P, dt, model)
                 n = uint(0)
                 nrow = np.int64(0)
             k1 = min(k_end, k0 + (uint(CH) - n))
@@ -114,18 +117,25 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
             if nw + uint(plane_count(wc.plane_cand[i]) + MAX_WALL_SLOTS) > uint(CH):
                 finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh,
                              tab, dt, model, heat_on, pl_acc)
+                if fric_on:
+                    friction_walls(nw, W, wi, wkind, wp, sl, P, wc, dt, model, pl_acc)
                 nw = uint(0)
             nw = gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, nw,
                               row_i)
     finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model, heat_on)
     finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, tab, dt, model,
                  heat_on, pl_acc)
+    if fric_on:      # outside finish_pairs/walls, which then compile as without the feature
+        friction_pairs(nrow, brow, blane, n, B, lj, P, dt, model)
+        friction_walls(nw, W, wi, wkind, wp, sl, P, wc, dt, model, pl_acc)
     if colour == 1 and mode > 0:
         nslab = pairs.slab_start.shape[0] - 1
         m0 = pairs.slab_start[0] if sl == 1 else pairs.slab_start[sl]
         m1 = pairs.slab_start[min(sl + 2, nslab)]
+        if model[M_FRICTION] != 0:
+            friction_correction(m0, m1, pairs.slab_list, 0.5 * dt, P)
         dm, no, bd = integrate_rows(m0, m1, pairs.slab_list, mode, heat_on, 0.5 * dt, dt,
-                                    gx, gy, gz, P, lo, hi, vmax2, model[M_FRICTION] != 0)
+                                    gx, gy, gz, P, lo, hi, vmax2)
         scan_out[sl, 0] = dm
         scan_out[sl, 1] = no
         scan_out[sl, 2] = bd
@@ -219,9 +229,12 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
                 slab_task(2 * si + colour, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh,
                           tab, nt, model, pl_acc, gx, gy, gz, lo, hi, vmax2, scan_out)
         if nslab == 1 and mode > 0:        # no second colour: the one slab is complete now
+            if model[M_FRICTION] != 0:
+                friction_correction(pairs.slab_start[0], P.x.shape[0], pairs.slab_list,
+                                    half_dt, P)
             dm, no, bd = integrate_rows(pairs.slab_start[0], P.x.shape[0], pairs.slab_list,
                                         mode, heat_on, half_dt, dt, gx, gy, gz, P, lo, hi,
-                                        vmax2, model[M_FRICTION] != 0)
+                                        vmax2)
             scan_out[0, 0] = dm
             scan_out[0, 1] = no
             scan_out[0, 2] = bd

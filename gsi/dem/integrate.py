@@ -118,7 +118,7 @@ def scan(P, lo, hi, vmax2):
 
 @njit
 def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P, lo, hi,
-                   vmax2, fric_on):
+                   vmax2):
     """Particles ``slab_list[m0:m1]``, whose forces are complete: the second half kick
     v += dt/2 F/m, omega += dt/2 T/I and (``heat_on``) heat T += dt Q/(m c_p); with
     ``mode`` 2 also the next step's first half kick, drift and clear
@@ -126,12 +126,7 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
     displacement since build, number outside the domain, lowest row whose speed is NaN
     or above sqrt(vmax2), else -1) as :func:`scan` does.
 
-    ``fric_on`` (frictional heating): the contacts booked their heat with the velocity
-    the force laws use, v_(n-1/2); the energy the step's forces take is paired with the
-    full-step velocity v_n = v_(n-1/2) + dt/2 F/m (velocity Verlet), so each particle
-    adds -F_d . (dt/2 F/m) dt - T_d . (dt/2 T/I) dt to its heat, F_d dt and T_d dt its
-    dissipative impulses ``P.fd``, ``P.td`` (then cleared): the frictional heat is then
-    second-order accurate (docs/design.md, "Frictional heating").
+    With frictional heating, :func:`friction_correction` runs first, on the same rows.
 
     The arithmetic is that of :func:`kick_one` twice, :func:`drift_one` and
     :func:`scan_one`, bitwise, written out so that a particle's values stay in registers
@@ -148,19 +143,6 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
     f = P.force
     tq = P.torque
     x0 = P.x0
-    if fric_on:      # its own loop: the loop below stays as it is without friction
-        for m in range(m0, m1):
-            i = slab_list[m]
-            a = half_dt / P.mass[i]
-            b = half_dt / P.inertia[i]
-            corr = 0.0
-            for d in range(3):
-                corr -= P.fd[i, d] * (a * f[i, d]) + P.td[i, d] * (b * tq[i, d])
-                P.fd[i, d] = 0.0
-                P.td[i, d] = 0.0
-            if P.fixed[i] == 0:
-                P.T[i] += corr * P.mcp_inv[i]
-                P.heat_friction[i] += corr
     for m in range(m0, m1):
         i = slab_list[m]
         free = P.fixed[i] == 0
@@ -214,6 +196,34 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
             if not (s2 <= vmax2) and (bad < 0 or i < bad):
                 bad = i
     return dmax, nout, bad
+
+
+@njit
+def friction_correction(m0, m1, slab_list, half_dt, P):
+    """Frictional heating, before :func:`integrate_rows` of the same rows: the contacts
+    booked their heat with the velocity the force laws use, v_(n-1/2); the energy the
+    step's forces take is paired with the full-step velocity v_n = v_(n-1/2) + dt/2 F/m
+    (velocity Verlet), so each particle adds -F_d . (dt/2 F/m) dt - T_d . (dt/2 T/I) dt
+    to its heat, F_d dt and T_d dt its dissipative impulses ``P.fd``, ``P.td`` (then
+    cleared): the frictional heat is then second-order accurate (docs/design.md,
+    "Frictional heating").  A function of its own, called only with frictional heating:
+    :func:`integrate_rows` compiles as it did before the feature (measured: with this
+    loop inside it, behind a run-time switch, the fused step of a dense bed was slower
+    with the switch off)."""
+    f = P.force
+    tq = P.torque
+    for m in range(m0, m1):
+        i = slab_list[m]
+        a = half_dt / P.mass[i]
+        b = half_dt / P.inertia[i]
+        corr = 0.0
+        for d in range(3):
+            corr -= P.fd[i, d] * (a * f[i, d]) + P.td[i, d] * (b * tq[i, d])
+            P.fd[i, d] = 0.0
+            P.td[i, d] = 0.0
+        if P.fixed[i] == 0:
+            P.T[i] += corr * P.mcp_inv[i]
+            P.heat_friction[i] += corr
 
 
 @njit

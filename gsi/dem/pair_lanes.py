@@ -14,7 +14,7 @@ from gsi.dem.contact.lanes import (
     NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IEFF, WX, WY, WZ, A2, RI, RJ, DTEMP,
     HX, HY, HZ, FX, FY, FZ, MX, MY, MZ, Q, AI, AJ, MI, MJ, II, IJ, WIX, WIY, WIZ, TIX, TIY,
     TIZ, TJX, TJY, TJZ, QF, FDX, FDY, FDZ)
-from gsi.dem.contact.model import evaluate, evaluate_dissipation, M_ROLLING, M_FRICTION
+from gsi.dem.contact.model import evaluate, evaluate_dissipation, M_ROLLING
 from gsi.dem.contact_geometry import spheres_touch
 
 
@@ -236,21 +236,18 @@ def evaluate_runs(n, B, lrow, tab, dt, model):
 @njit(_nrt=False)
 def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model, heat_on):
     """The contact model over the batch's ``n`` pair lanes, then each of its ``nrow`` rows:
-    its pairs added to both particles (Newton's third law), the springs stored; with
-    frictional heating, half the dissipated power of each contact into each particle
-    (``q``, and ``heat_friction`` += QF/2 dt; ``heat_on`` is then set too)."""
+    its pairs added to both particles (Newton's third law), the springs stored (with
+    frictional heating, ``heat_on`` is set too, and :func:`friction_pairs` follows)."""
     pair_geometry(n, B)
     if model[M_ROLLING] != 0:
         pair_inertia(n, B)
     if heat_on:
         pair_contact_radius(n, B)
     evaluate_runs(n, B, lrow, tab, dt, model)
-    evaluate_dissipation(n, B, dt, model)
     pair_torques(n, B)
     f = P.force
     tq = P.torque
     hist = pairs.hist
-    fric_on = model[M_FRICTION] != 0
     for b in range(nrow):
         i = brow[b]
         fx = 0.0
@@ -295,14 +292,26 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
         tq[i, 2] += tz
         if heat_on:
             P.q[i] += qi
-    if fric_on:      # its own loop: the loop above stays as it is without friction
-        for b in range(nrow):
-            i = brow[b]
-            for l in range(blane[b], blane[b + 1]):
-                j = lj[l]
-                h = 0.5 * B[QF + l]
-                P.q[i] += h
-                P.q[j] += h
-                P.heat_friction[i] += h * dt
-                P.heat_friction[j] += h * dt
-                dissipative_impulse(B, l, np.int64(i), np.int64(j), P, dt)
+
+
+@njit(_nrt=False)
+def friction_pairs(nrow, brow, blane, n, B, lj, P, dt, model):
+    """Frictional heating of a pair batch after :func:`finish_pairs`: the dissipated power
+    of its lanes (:func:`gsi.dem.contact.model.evaluate_dissipation`; it reads only lanes
+    that :func:`finish_pairs` left as the contact model wrote them), half of it into each
+    particle (``q``, and ``heat_friction`` += QF/2 dt), and the dissipative impulses.
+
+    Called by the engine only with frictional heating on, and not from inside
+    :func:`finish_pairs`: with these lines in it (behind a run-time switch) the engine
+    ran 6-13 % slower with the switch off (docs/design.md, "Frictional heating")."""
+    evaluate_dissipation(n, B, dt, model)
+    for b in range(nrow):
+        i = brow[b]
+        for l in range(blane[b], blane[b + 1]):
+            j = lj[l]
+            h = 0.5 * B[QF + l]
+            P.q[i] += h
+            P.q[j] += h
+            P.heat_friction[i] += h * dt
+            P.heat_friction[j] += h * dt
+            dissipative_impulse(B, l, np.int64(i), np.int64(j), P, dt)

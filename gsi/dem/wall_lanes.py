@@ -18,7 +18,7 @@ from gsi.dem.contact.lanes import (NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, IE
 from gsi.dem.contact_geometry import wall_radius2, plane_distance
 from gsi.dem.mesh_dedup import select_triangle_contacts
 from gsi.dem.pair_lanes import evaluate_runs, dissipative_impulse
-from gsi.dem.contact.model import M_FRICTION, evaluate_dissipation
+from gsi.dem.contact.model import evaluate_dissipation
 
 #: lane kinds of the wall buffer
 PLANE, TRIANGLE = 0, 1
@@ -146,12 +146,9 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
     wall's share kept: the plane sums of slab ``sl`` in ``pl_acc[sl, p]`` (force, moment
     about the plane's point at the contact point, heat; see
     :func:`gsi.dem.wall_kernels.plane_sums`), the triangle slots in ``wc.force``,
-    ``wc.heat`` (see :func:`gsi.dem.wall_kernels.mesh_scatter`).  With frictional
-    heating, half the dissipated power of a contact goes into the particle (``q``,
-    ``heat_friction``), half into the wall (``pl_acc[sl, p, 7]``, ``wc.fheat``)."""
+    ``wc.heat`` (see :func:`gsi.dem.wall_kernels.mesh_scatter`); with frictional heating
+    :func:`friction_walls` follows."""
     evaluate_runs(n, W, wrow, tab, dt, model)
-    evaluate_dissipation(n, W, dt, model)
-    fric_on = model[M_FRICTION] != 0
     for l in range(n):
         i = wi[l]
         nx = W[NX + l]
@@ -201,17 +198,27 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
         P.ncontact[i] += 1
         if heat_on:
             P.q[i] += Qw
-    if fric_on:      # its own loop: the loop above stays as it is without friction
-        for l in range(n):
-            i = wi[l]
-            Qf = 0.5 * W[QF + l]
-            P.q[i] += Qf
-            P.heat_friction[i] += Qf * dt
-            dissipative_impulse(W, l, np.int64(i), np.int64(-1), P, dt)
-            if wkind[l] == PLANE:
-                pl_acc[sl, wp[l], 7] += Qf
-            else:
-                wc.fheat[i, wp[l]] = Qf
+
+
+@njit(_nrt=False)
+def friction_walls(n, W, wi, wkind, wp, sl, P, wc, dt, model, pl_acc):
+    """Frictional heating of a wall batch after :func:`finish_walls`: the dissipated power
+    of its lanes (:func:`gsi.dem.contact.model.evaluate_dissipation`), half of it into
+    the particle (``q``, ``heat_friction``), half into the wall (``pl_acc[sl, p, 7]``,
+    ``wc.fheat``), and the particle's dissipative impulses.  Called by the engine only
+    with frictional heating on, outside :func:`finish_walls` (see
+    :func:`gsi.dem.pair_lanes.friction_pairs`)."""
+    evaluate_dissipation(n, W, dt, model)
+    for l in range(n):
+        i = wi[l]
+        Qf = 0.5 * W[QF + l]
+        P.q[i] += Qf
+        P.heat_friction[i] += Qf * dt
+        dissipative_impulse(W, l, np.int64(i), np.int64(-1), P, dt)
+        if wkind[l] == PLANE:
+            pl_acc[sl, wp[l], 7] += Qf
+        else:
+            wc.fheat[i, wp[l]] = Qf
 
 
 @njit(_nrt=False)

@@ -50,8 +50,7 @@ def test_integrate_rows_is_the_per_particle_pieces_bitwise(mode):
     n = P.x.shape[0]
     rows = np.random.default_rng(5).permutation(n).astype(np.int64)
     half_dt, dt, g = 1e-6, 2e-6, (0.0, 0.0, -9.81)
-    d2, nout, bad = integrate_rows(0, n, rows, mode, True, half_dt, dt, *g, P, LO, HI, VMAX2,
-                                   False)
+    d2, nout, bad = integrate_rows(0, n, rows, mode, True, half_dt, dt, *g, P, LO, HI, VMAX2)
     # the reference: the pieces one by one
     dmax, nout_ref, bad_ref = 0.0, 0, -1
     for i in rows:
