@@ -98,6 +98,24 @@ def check_stiffness(case) -> None:
                 f"0.1 r; check the units: Pa)")
 
 
+def placed_particles(case, i: int, p, lattice_radius: str):
+    """Known positions of particle source ``i`` (``p``) before the run: a file's rows
+    (x, radius) or a lattice fill's sites with its ``lattice_radius`` ("smallest" or
+    "largest" of its size distribution). Returns (x, r, key, what) -- ``key`` names the
+    source in messages, ``what`` one row ("row", "lattice site") -- or None for a random
+    fill or a stream, whose positions are drawn at the start."""
+    from gsi.case.sources import read_particle_file
+    if p.fill == "file":
+        data = read_particle_file(case.base_dir / p.file, key=f"particles[{i}].file",
+                                  shown=p.file)
+        return data["x"], data["radius"], f"particles[{i}].file = '{p.file}'", "row"
+    if p.fill == "lattice":
+        x = p.lattice_sites(f"particles[{i}]")
+        r = np.full(len(x), getattr(p.size, lattice_radius))
+        return x, r, f"particles[{i}].region", "lattice site"
+    return None
+
+
 def check_placed_overlaps(case) -> None:
     """Particles placed at known positions (files, lattice fills) must not overlap one
     another (within a file, or across sources) by more than MAX_OVERLAP of the smaller
@@ -105,24 +123,19 @@ def check_placed_overlaps(case) -> None:
     fill counts with its smallest radius here (its radii are drawn at the run's start,
     when :meth:`ParticleSource.add_to` checks again); overlaps with random fills
     (positions drawn at the start) are found there too."""
-    from gsi.case.sources import first_overlap, read_particle_file
+    from gsi.case.sources import first_overlap
     seen_x, seen_r, seen_from = [], [], []
     for i, p in enumerate(case.particles):
-        if p.fill == "file":
-            data = read_particle_file(case.base_dir / p.file, key=f"particles[{i}].file",
-                                      shown=p.file)
-            x, r = data["x"], data["radius"]
-            key, what = f"particles[{i}].file = '{p.file}'", "row"
-            # fixed particles cannot fly apart: their overlaps among themselves are
-            # the case's (e.g. seed 001 case 4's two particles at a given overlap)
-            hit = None if p.fixed else first_overlap(x, r, MAX_OVERLAP)
-            pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
-        elif p.fill == "lattice":
-            x = p.lattice_sites(f"particles[{i}]")
-            r = np.full(len(x), p.size.smallest)
-            key, what, hit = f"particles[{i}].region", "lattice site", None
-        else:
+        placed = placed_particles(case, i, p, "smallest")
+        if placed is None:
             continue
+        x, r, key, what = placed
+        hit = pair = None
+        # fixed particles of a file cannot fly apart: their overlaps among themselves
+        # are the case's (e.g. seed 001 case 4's two particles at a given overlap)
+        if p.fill == "file" and not p.fixed:
+            hit = first_overlap(x, r, MAX_OVERLAP)
+            pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
         if hit is None and seen_x:
             hit = first_overlap(x, r, MAX_OVERLAP, other_x=np.concatenate(seen_x),
                                 other_r=np.concatenate(seen_r))
