@@ -26,6 +26,7 @@ from gsi.dem import checks
 from gsi.dem import contact_log as clog
 from gsi.dem.state import MAX_WALL_SLOTS
 from gsi.dem.step_codes import StepCode, blow_up, lost_particles
+from gsi.dem.wall_drivers import bed_of
 
 
 def run(sim, n):
@@ -77,8 +78,9 @@ def _chunks(sim, remaining):
             chunk = min(chunk, sim.radiation.step_due(sim.step_count, sim.dt,
                                                       force_dt=sim.force_dt))
         if sim.drivers:                   # walls that respond: up to their next update
-            chunk = min(chunk, sim.drivers.steps_due(sim.step_count) if skip
-                        else sim.drivers.drive(sim))    # (a resumed step has moved its walls)
+            due = (sim.drivers.steps_due(sim.step_count) if skip   # (a resumed step has
+                   else sim.drivers.drive(sim.step_count, sim.time, sim.dt, bed_of(sim)))
+            chunk = min(chunk, due)                                  # moved its walls)
         sim.log.state.ctrl[clog.C_STEP] = sim.step_count
         half_skin2 = (0.5 * sim.list_skin) ** 2
         done, code, info = sim.engine.advance(chunk, skip, sim.dt, sim.g, half_skin2, vmax2,
