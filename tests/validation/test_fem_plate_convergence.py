@@ -1,5 +1,5 @@
 """Mesh convergence of the clamped circular plate (docs/design.md, "Validation cases", case 6b) with the iterative
-solver (CG + GAMG), against plate theory.
+solver (CG + BoomerAMG, gsi's iterative default), against plate theory.
 
 Same plate as tests/validation/test_fem_clamped_circular_plate.py (a / t = 25, P2 tetrahedra,
 two element layers through the thickness, uniform pressure): Mindlin's centre deflection

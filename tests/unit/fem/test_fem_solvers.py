@@ -167,7 +167,7 @@ def test_iterative_builds_its_preconditioner_once_and_warm_starts(slab):
         p.step()
     assert setups.getPerfInfo()["count"] == after_two   # PETSc's own count: no rebuild
     assert p.n_factorizations == 1
-    assert p.linear_solver.describe() == "cg + gamg"
+    assert p.linear_solver.describe() == "cg + hypre"
     assert p.linear_solver.ksp.getInitialGuessNonzero()
     # a second static solve of the same problem starts at the solution: it stays there,
     # with less work (down to the round-off floor ITERATIVE_ATOL ||b|| only)
