@@ -86,6 +86,7 @@ from gsi.fem.surface import ContactSurface  # noqa: E402
 from gsi.meshes import shell  # noqa: E402
 
 DT_DYNAMIC = 1.25e-4     # s, T_1 / 20 of the default shell (T_1 = 2.5 ms)
+DT_PLATE = 2.5e-4        # s, T_1 / 20 of the clamped plate (T_1 about 5 ms)
 DT_HEAT = 1.0            # s
 
 
@@ -144,9 +145,10 @@ def _surface_loads(s, k: int) -> np.ndarray:
                  -1.0 - 0.02 * k - x[:, 1] ** 2]
 
 
-def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> dict:
+def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict,
+                   dt: float = DT_DYNAMIC) -> dict:
     comm = MPI.COMM_WORLD
-    kw = dict(dt=DT_DYNAMIC, rho_inf=0.3) if scheme != "static" else {}
+    kw = dict(dt=dt, rho_inf=0.3) if scheme != "static" else {}
     reset_peak_memory()
     base = resident_memory(comm)
     comm.barrier()
@@ -163,7 +165,7 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
     peak, rank_peak = peak_memory(comm)
     its = p.iterations
     out = dict(problem="static" if scheme == "static" else "dynamic", solver=p.solver_kind,
-               dofs=p.n_dofs, setup_s=t_setup, first_s=times[0],
+               pc=p.linear_solver.ksp.getPC().getType(), dofs=p.n_dofs, setup_s=t_setup, first_s=times[0],
                step_s=float(np.mean(times[1:])), its_first=its[0],
                its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
                surface_vertices=s.n_vertices, umax=p.max_displacement())
@@ -207,7 +209,8 @@ def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
     t_setup, times = _timed(comm, h.set_up, load, h.step, n_steps)
     peak, rank_peak = peak_memory(comm)
     its = h.iterations
-    out = dict(problem="heat", solver=h.solver_kind, dofs=h.n_dofs, setup_s=t_setup,
+    out = dict(problem="heat", solver=h.solver_kind, pc=h.linear_solver.ksp.getPC().getType(),
+               dofs=h.n_dofs, setup_s=t_setup,
                first_s=times[0], step_s=float(np.mean(times[1:])), its_first=its[0],
                its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
                surface_vertices=s.n_vertices, Tmax=h.min_max()[1])
@@ -215,13 +218,21 @@ def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
     return out
 
 
-def build(target: float, *, n_thickness: int, components: int) -> tuple[object, float, float]:
-    """(mesh, h, build seconds) of the shell with about ``target`` dofs."""
+def build(target: float, *, n_thickness: int, components: int,
+          structure: str = "shell") -> tuple[object, float, float]:
+    """(mesh, h, build seconds) of the shell (or the clamped plate) with about ``target``
+    dofs. The plate (radius 0.5 m, 20 mm steel, two P2 layers whatever ``n_thickness``):
+    23.7e3 vector dofs at h = 0.05 m, dofs ~ 1/h^2."""
     comm = MPI.COMM_WORLD
-    h = shell.h_for_dofs(target, n_thickness=n_thickness, components=components)
+    if structure == "plate":
+        h = 0.05 * (23.7e3 * components / (3.0 * target)) ** 0.5
+        args = dict(shape="circle", radius=0.5, thickness=0.02, h=h, n_thickness=2)
+    else:
+        h = shell.h_for_dofs(target, n_thickness=n_thickness, components=components)
+        args = dict(h=h, n_thickness=n_thickness)
     comm.barrier()
     t0 = time.perf_counter()
-    sm = meshes.build("shell", h=h, n_thickness=n_thickness)
+    sm = meshes.build("membrane" if structure == "plate" else "shell", **args)
     comm.barrier()
     return sm, h, time.perf_counter() - t0
 
@@ -244,6 +255,9 @@ def main() -> None:
                     help="comma-separated subset of static,dynamic,heat")
     ap.add_argument("--steps", type=int, default=2, help="timed steps after the first solve")
     ap.add_argument("--n-thickness", type=int, default=1, help="P2 element layers in the wall")
+    ap.add_argument("--structure", choices=["shell", "plate"], default="shell",
+                    help="the silo shell, or the clamped plate of validation case 6b "
+                         "(dt = 2.5e-4 s, T_1 / 20)")
     ap.add_argument("--direct-max-dofs", type=float, default=4e5,
                     help="skip the direct solver above this size (memory)")
     ap.add_argument("--static-max-dofs", type=float, default=2e5,
@@ -263,6 +277,7 @@ def main() -> None:
                "all": ["direct", "out_of_core", "iterative"]}.get(args.solver, [args.solver])
     petsc = json.loads(args.petsc)
     petsc_direct = json.loads(args.petsc_direct)
+    dt = DT_PLATE if args.structure == "plate" else DT_DYNAMIC
     load0 = load_average()
     targets = np.geomspace(args.min_dofs, args.max_dofs, args.sizes)
     if args.largest_first:
@@ -279,7 +294,7 @@ def main() -> None:
     def report(r):
         records.append(r)
         if comm.rank == 0:
-            print(f"{r['problem']:8s} {r['solver']:9s} dofs={r['dofs']:8d} h={r['h']:.4g} "
+            print(f"{r['problem']:8s} {r['solver']:9s} {r['pc']:6s} dofs={r['dofs']:8d} h={r['h']:.4g} "
                   f"mesh={r['mesh_s']:.1f}s setup={r['setup_s']:.2f}s first={r['first_s']:.2f}s "
                   f"step={r['step_s']:.3f}s its={r['its_first']}/{r['its_step']:.0f} "
                   f"peak={r['peak_gb']:.2f}GB (rank max {r['rank_gb']:.2f}, at start "
@@ -289,7 +304,8 @@ def main() -> None:
 
     for target in targets:
         if {"static", "dynamic"} & set(problems):
-            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=3)
+            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=3,
+                                  structure=args.structure)
             for solver in solvers:
                 if solver == "direct" and target > args.direct_max_dofs:
                     continue
@@ -298,11 +314,12 @@ def main() -> None:
                     if prob == "static" and target > args.static_max_dofs:
                         continue
                     if prob in problems:
-                        r = run_elasticity(sm, scheme, solver, args.steps, opts)
+                        r = run_elasticity(sm, scheme, solver, args.steps, opts, dt=dt)
                         report(dict(r, h=h, mesh_s=t_mesh, ranks=comm.size))
             del sm
         if "heat" in problems:
-            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=1)
+            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=1,
+                                  structure=args.structure)
             for solver in solvers:
                 if solver == "direct" and target > args.direct_max_dofs:
                     continue
@@ -324,10 +341,10 @@ def main() -> None:
                     key=lambda r: r["dofs"])
         return [r["dofs"] for r in rs], [r["step_s"] for r in rs], rs
 
-    kv = [f"ranks={comm.size}", f"solver={main_solver}"]
+    kv = [f"structure={args.structure}", f"ranks={comm.size}", f"solver={main_solver}"]
     dofs, steps, rs = pick("dynamic", main_solver)
     if rs:
-        kv += [f"max_dofs={dofs[-1]}", f"step_s_at_max={steps[-1]:.4g}",
+        kv += [f"pc={rs[-1]['pc']}", f"max_dofs={dofs[-1]}", f"step_s_at_max={steps[-1]:.4g}",
                f"its_at_max={rs[-1]['its_step']:.0f}", f"setup_s_at_max={rs[-1]['setup_s']:.4g}"]
     kv += [f"peak_mem_gb={max(r['peak_gb'] for r in records):.3g}",
            f"exponent={slope(dofs, steps):.3f}"]
@@ -335,6 +352,8 @@ def main() -> None:
         d, t, rs = pick("dynamic", other)
         if rs and other != main_solver:
             kv += [f"step_s_at_max_{other}={t[-1]:.4g}", f"dofs_at_max_{other}={d[-1]}",
+                   f"its_at_max_{other}={rs[-1]['its_step']:.0f}",
+                   f"setup_s_at_max_{other}={rs[-1]['setup_s']:.4g}",
                    f"exponent_{other}={slope(d, t):.3f}"]
     for prob in ("static", "heat"):
         d, t, rs = pick(prob, main_solver)
