@@ -95,8 +95,7 @@ class Elasticity(Problem):
         Stress-free temperature (K or degC, as the temperatures given).
     factorization, solver, petsc_options, rtol, options_key
         The linear solver (:class:`gsi.fem.problem.Problem`; the iterative one here is
-        CG + BoomerAMG, or GAMG with the rigid-body near-nullspace, see
-        :data:`gsi.fem.options.ITERATIVE_PC`; "auto" goes out of core from
+        CG + BoomerAMG (:data:`gsi.fem.options.ITERATIVE_PC`); "auto" goes out of core from
         ``gsi.fem.options.AUTO_LARGE_DOFS["elasticity"]`` dofs on).
 
     Notes
