@@ -16,11 +16,11 @@ nodal loads on the contact surface, times (1 - alpha_f), Dirichlet rows zeroed.
 
 Candidates (``--candidates``, PETSc 3.18 / hypre as Debian 12 builds them):
 
-* ``gamg``: gsi's iterative solver today, GAMG smoothed aggregation with the six
-  rigid-body modes as its near-nullspace, Chebyshev/Jacobi smoothing
-  (:data:`gsi.fem.options.ITERATIVE_DEFAULTS`);
+* ``gamg``: GAMG smoothed aggregation with the six rigid-body modes as its
+  near-nullspace, Chebyshev/Jacobi smoothing (gsi's ``pc_type = "gamg"``,
+  :data:`gsi.fem.options.ITERATIVE_DEFAULTS`; its iterative default before issue 33);
 * ``gamg_sor``: the same with an SOR smoother under Chebyshev (a cheap GAMG variant);
-* ``hypre_sys``: BoomerAMG, systems form ("unknown" approach: the 3 components coarsened
+* ``hypre_sys``: gsi's iterative default for elasticity now: BoomerAMG, systems form ("unknown" approach: the 3 components coarsened
   separately, the matrix's block size 3 gives hypre its number of functions), HMIS
   coarsening, extended+i interpolation, strong threshold 0.5;
 * ``hypre_nodal``: BoomerAMG, nodal form: nodes coarsened together
@@ -163,8 +163,8 @@ _HYPRE_COMMON = {"pc_type": "hypre", "pc_hypre_type": "boomeramg",
                  "pc_hypre_boomeramg_P_max": "4",
                  "pc_hypre_boomeramg_agg_nl": "0"}
 CANDIDATES = {
-    "gamg": dict(ITERATIVE_DEFAULTS["elasticity"]),
-    "gamg_sor": dict(ITERATIVE_DEFAULTS["elasticity"], mg_levels_pc_type="sor"),
+    "gamg": dict(ITERATIVE_DEFAULTS["elasticity_gamg"]),
+    "gamg_sor": dict(ITERATIVE_DEFAULTS["elasticity_gamg"], mg_levels_pc_type="sor"),
     "hypre_sys": dict(_HYPRE_COMMON),
     "hypre_nodal": dict(_HYPRE_COMMON, pc_hypre_boomeramg_nodal_coarsen="6",
                         pc_hypre_boomeramg_vec_interp_variant="2",
