@@ -35,25 +35,33 @@ The direct solver is skipped above ``--direct-max-dofs`` (its memory grows faste
 dofs), the static problem above ``--static-max-dofs`` (from u = 0 the iterative solver
 needs ~2000 CG iterations on this thin wall: 27 s on one rank at 1e4 dofs).
 
-Crossover (measured 2026-12-02 on the 2-core test machine while other jobs loaded it,
-load average 4-6: the times are 2-3 times an idle machine's; ``solver = "auto"`` takes its
-threshold, :data:`gsi.fem.options.AUTO_LARGE_DOFS`, from these figures):
+With ``--structure plate`` the same is done for the clamped circular plate of the
+validation case 6b (radius 0.5 m, 20 mm steel, two P2 layers, dt = 2.5e-4 s = T_1 / 20);
+the last line then starts ``structure=plate``. Each record names its preconditioner
+(``pc``: lu, cholesky, hypre, gamg); the last line gives, besides the headline solver's
+``its_at_max``/``setup_s_at_max``, the other solver's as ``its_at_max_<solver>``,
+``setup_s_at_max_<solver>``.
 
-* elasticity, dynamic step: the direct solve is 60-670 times faster than the iterative
-  one at every size measured (1e4-1e5 dofs; 1e5 on 2 ranks: 1.4 s against 81 s, 505 CG
-  iterations), and a single solve, factorization included, is cheaper too (1e5 on 2
-  ranks: 37 s against 102 s; the direct one at 2e5: 41.6 s, 4.9 GB); its memory is what
-  stops it: SuperLU_DIST on 2 ranks held 12.4 GB for the 2.8e5-dof membrane of
-  benchmarks/coupled_large.py (two P2 layers). The iterative solver's iterations fall as
-  the mesh is refined (the elements' in-plane size approaches the wall's 10 mm: 884 at 1e4,
-  505 at 1e5, 159 at 1e6 dofs), so its step time grows as dofs^0.67 on 2 ranks;
-* elasticity out of core (``out_of_core``: MUMPS Cholesky, METIS, the factor on disk), 2
-  ranks: 0.88 s per step at 4e5 dofs (2.9 GB; 0.53 s and 4.65 GB with the factor in
-  memory) and 3.74 s at 998,280 dofs in 6.82 GB (set-up 1,882 s with each rank on half a
-  core): the direct solve keeps its lead at every size, so ``auto`` takes it from where
-  the in-memory factor passes the 8 GB of a 2-rank run;
-* heat: CG + BoomerAMG needs 9-13 iterations at every size; per step it is 1-10 times
-  slower than the direct solve up to 1e5 dofs, its set-up 2-6 times faster.
+Crossover, issue 33's second step (2026-12-05, 1 rank, the host loaded 7-13 by other
+jobs: ratios, not absolute times; iterative = CG + BoomerAMG, gsi's default since then;
+direct = MUMPS LU; set-up / step wall seconds, CG iterations per step):
+
+* shell, dynamic: 9.9e3 dofs 1.32 / 0.020 (direct) against 0.34 / 4.31, 204 its;
+  2.5e4 6.20 / 0.078 against 1.00 / 17.4, 188; 7.3e4 42.0 / 0.25 against 3.07 / 52.2,
+  160; 2.0e5 262 / 0.86 (3.37 GB) against 8.74 / 71.3, 126. The direct step is 80-220
+  times faster, its set-up 4-30 times slower: the iterative path is cheaper in total for
+  runs shorter than 0.2 / 0.3 / 0.75 / 3.6 steps;
+* shell, heat (2.0e5): 49.8 / 0.43 against 5.2 / 3.9, 8 its: break-even at 13 steps;
+* plate: see docs/performance.md ("Iterative FE solver: crossover and scaling model")
+  and the records in benchmarks/results/fe_scale.json.
+
+So ``auto`` stays direct wherever the factor fits. Earlier figures (2026-12-02, CG +
+GAMG, 2 ranks, load 4-6): the direct dynamic step 60-670 times faster at 1e4-1e5 dofs
+(1e5: 1.4 s against 81 s, 505 GAMG iterations); out of core, 2 ranks: 0.88 s per step at
+4e5 dofs (2.9 GB) and 3.74 s at 998,280 dofs in 6.82 GB (set-up 1,882 s). GAMG's count
+fell with the dofs (884 / 505 / 159 at 1e4 / 1e5 / 1e6) because the wall keeps one layer
+while h falls (the elements get less flat), not because the method scales: refined
+uniformly, every count grows (benchmarks/shell_precond.py).
 
 Run::
 
@@ -63,6 +71,9 @@ Run::
         --steps 1 --static-max-dofs 1.1e4
     mpirun -n 2 python benchmarks/fe_scale.py --solver out_of_core --problems dynamic \
         --min-dofs 1e6 --max-dofs 1e6 --sizes 1 --steps 3
+    python benchmarks/fe_scale.py --structure shell --solver both --min-dofs 1e4 \
+        --max-dofs 2e5 --sizes 4 --steps 1 --problems dynamic,heat --direct-max-dofs 2.1e5
+    (the same with --structure plate)
 """
 from __future__ import annotations
 
