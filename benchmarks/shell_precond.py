@@ -176,6 +176,7 @@ CANDIDATES = {
     "bjacobi_lu": {"pc_type": "bjacobi", "sub_pc_type": "cholesky",
                    "sub_pc_factor_mat_solver_type": "mumps"},
     "bddc": {"pc_type": "bddc"},
+    "bddc_deluxe": {"pc_type": "bddc", "pc_bddc_use_deluxe_scaling": ""},
     "pmg_gamg": {"pc_type": "mg", "pc_mg_levels": "2", "pc_mg_galerkin": "none",
                  "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
                  "mg_levels_esteig_ksp_type": "cg", "mg_levels_ksp_max_it": "2",
@@ -189,7 +190,7 @@ CANDIDATES = {
 #: rotations only (hypre's interpolation vectors: the translations are the per-function
 #: constants its interpolation reproduces already) or none
 NULLSPACE = {"gamg": "rbm", "gamg_sor": "rbm", "hypre_nodal": "rotations",
-             "hypre_nodal_t07": "rotations", "bddc": "rbm"}
+             "hypre_nodal_t07": "rotations", "bddc": "rbm", "bddc_deluxe": "rbm"}
 
 
 def load_average() -> float:
@@ -344,7 +345,7 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm):
     prefix = f"sp_{name}_"
     settings = dict(CANDIDATES[name])
     # a copy of its own: the near-nullspace attached to the matrix is the candidate's
-    op = matis_matrix(p) if name == "bddc" else A.duplicate(copy=True)
+    op = matis_matrix(p) if name.startswith("bddc") else A.duplicate(copy=True)
     nsp = near_nullspace(p, op, NULLSPACE.get(name))
     if nsp is not None:
         op.setNearNullSpace(nsp)
@@ -466,7 +467,7 @@ def main() -> None:
             g = rs[-1]["its"] / max(rs[0]["its"], 1) if conv else float("nan")
             kv += [f"its_{c}_{st}={its_max}", f"growth_{c}_{st}={g:.3g}"]
             if st == "shell" and conv and len(rs) == len(targets) and not (
-                    comm.size == 1 and c in ("bjacobi_lu", "bddc")):
+                    comm.size == 1 and c in ("bjacobi_lu", "bddc", "bddc_deluxe")):
                 growth[c] = (g, rs[-1]["its"], rs[-1]["dofs"])
     if growth:
         best = min(growth, key=lambda c: (growth[c][0], growth[c][1]))
