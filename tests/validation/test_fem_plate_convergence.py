@@ -7,7 +7,9 @@ w = q a^4 / (64 D) + q a^2 / (4 kappa G t), D = E t^3 / (12 (1 - nu^2)) (Timoshe
 Woinowsky-Krieger, Theory of Plates, §63). The 3D solution approaches it from below as h
 shrinks; measured (direct and iterative solvers agree to 1e-8): -1.80 % at h = a/10
 (2.4e4 dofs), -0.77 % at a/20 (9.1e4), -0.49 % at a/30 (2.0e5), and the finest mesh here,
-h = a/35 (2.7e5 dofs), is within 0.5 %: -0.43 % (92 CG iterations; 2026-12-02).
+h = a/35 (2.7e5 dofs), is within 0.5 %: -0.43 % (92 CG + GAMG iterations; 2026-12-02;
+with CG + BoomerAMG, gsi's default since, -0.43 % again, 162 iterations from u = 0,
+the test 264-573 s on the loaded host, 2026-12-05).
 """
 import numpy as np
 import pytest
