@@ -38,6 +38,9 @@ Candidates (``--candidates``, PETSc 3.18 / hypre as Debian 12 builds them):
   (on 1 rank: a direct solve, 1 iteration; the baseline of the domain-decomposition
   family);
 * ``bddc``: PCBDDC on a MATIS matrix, if ``--bddc`` is given (see below);
+* ``bddc_deluxe``: the same with deluxe scaling (``pc_bddc_use_deluxe_scaling``: the
+  interface averaged with the subdomains' Schur complements instead of their diagonal),
+  named in ``--candidates``;
 * ``pmg_gamg``: p-multigrid, PCMG on two levels: the P2 space smoothed by two
   Chebyshev/Jacobi sweeps, the P1 space (the interpolation P1 -> P2 of dolfinx 0.5.2's
   ``interpolation_matrix`` as prolongation, the Galerkin operator P^T A P) by one GAMG
@@ -118,6 +121,17 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   two subdomains cannot show its growth with their number. On the uniformly refined
   shell its 1e-8 count grows from 110 to 285 (4.9e3 -> 3.2e4 dofs), BoomerAMG nodal's
   from 110 to 169.
+* BDDC with deluxe scaling (2026-12-05, uniformly refined shell, 4.9e3 / 3.2e4 dofs, CG
+  iterations to 1e-8 of the initial residual; each rank a subdomain, 4 and 8 ranks
+  oversubscribed on the 2 cores, which leaves the counts alone): 2 subdomains 12 / 19
+  (plain BDDC 110 / 285, BoomerAMG systems 153 / 276), 4 subdomains 29 / 21,
+  8 subdomains 83 / 178. With few subdomains it is the best preconditioner measured
+  here (3.2e4, 2 ranks, load 10: set-up 10.3 s + solve 4.6 s against BoomerAMG's 1.0 s +
+  92.5 s), but its count grows with the number of subdomains (PETSc's default coarse
+  space: subdomain vertices and edge/face averages), so it does not yet scale; and like
+  plain BDDC it breaks down (PETSc reason -8, indefinite preconditioner) at 2e-12 to
+  3e-11 of the initial residual, short of gsi's 1e-12. Not tried: an adaptive coarse
+  space (``pc_bddc_adaptive_threshold``), which targets this growth.
 * GAMG with an SOR smoother under Chebyshev fails from 3e4 dofs on (the preconditioner's
   Chebyshev eigenvalue estimate breaks down: PETSc reason -11).
 
