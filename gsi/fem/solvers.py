@@ -401,9 +401,9 @@ class IterativeSolver(LinearSolver):
         As :class:`LinearSolver`.
     near_nullspace : PETSc.NullSpace or callable, optional
         Near-nullspace of A (elasticity: :func:`rigid_body_modes`), or a function making
-        it; attached to A for GAMG only (BoomerAMG's systems form does not use it: with
-        ``pc_hypre_boomeramg_vec_interp_variant`` hypre would take it as interpolation
-        vectors, which benchmarks/shell_precond.py measured slower per step).
+        it; attached to A for GAMG, and for BoomerAMG only when the user asks for
+        interpolation vectors (``pc_hypre_boomeramg_vec_interp_variant``: the nodal form,
+        which benchmarks/shell_precond.py measured slower per step than the systems form).
     rtol : float
         Relative tolerance: the residual falls to ``rtol`` times the initial guess's
         residual (``ksp_rtol`` overrides it).
@@ -428,7 +428,9 @@ class IterativeSolver(LinearSolver):
         defaults = iterative_defaults(problem, self.user_options.get("pc_type"),
                                       hypre=_hypre_available())
         self.defaults = defaults
-        if near_nullspace is not None and defaults["pc_type"] == "gamg":
+        wants = defaults["pc_type"] == "gamg" or any(
+            k.startswith("pc_hypre_boomeramg_vec_interp") for k in self.user_options)
+        if near_nullspace is not None and wants:
             A.setNearNullSpace(near_nullspace() if callable(near_nullspace) else near_nullspace)
         ksp = self.ksp
         self._configure_scratch(ksp)

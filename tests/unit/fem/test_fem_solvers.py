@@ -178,6 +178,19 @@ def test_iterative_builds_its_preconditioner_once_and_warm_starts(slab):
     assert np.abs(s.u.x.array - u1).max() <= 1e-12 * np.abs(u1).max()
 
 
+def test_iterative_preconditioner_by_problem_and_by_pc_type(slab):
+    """BoomerAMG by default (systems form: no near-nullspace needed); pc_type = "gamg"
+    gives GAMG with gsi's GAMG defaults and the six rigid-body modes; both agree."""
+    h = _static(slab, "iterative")
+    g = _static(slab, "iterative", petsc_options={"pc_type": "gamg"})
+    assert h.linear_solver.describe() == "cg + hypre"
+    assert not h.linear_solver.A.getNearNullSpace().handle         # none attached
+    assert g.linear_solver.describe() == "cg + gamg"
+    assert len(g.linear_solver.A.getNearNullSpace().getVecs()) == 6
+    assert g.iterations[0] > h.iterations[0]
+    assert _close(h.u.x.array, g.u.x.array)
+
+
 def test_zero_load_gives_zero_without_iterating(slab):
     p = Elasticity(slab, "steel", degree=1, solver="iterative")
     p.clamp("support")
