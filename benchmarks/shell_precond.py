@@ -109,7 +109,7 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   nodal 2.5 s, GAMG 12.8 s). Re-run 2026-12-05 at one load (6.5-7.4, 2 ranks, uniform
   3.2e4 shell): GAMG 1,471 its in 1.1 + 76.3 s, systems 425 its in 0.4 + 49.6 s: the
   8-times cost per iteration and GAMG's lead above were not reproduced (a BoomerAMG
-  iteration cost 3.4 times a GAMG one; 2.1-2.3 times in CPU time on the one-layer shell).
+  iteration cost 2.2 times a GAMG one; 2.1-2.3 times in CPU time on the one-layer shell).
 * p-multigrid (GAMG under a P2 -> P1 level) saves a quarter to a third of GAMG's
   iterations with the same growth; on the quiet host its step costs 3 times GAMG's on the
   shell (23.8 s against 8.0 s) and half of it on the plate.
