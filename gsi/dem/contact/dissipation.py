@@ -25,7 +25,9 @@ booked as heat by :mod:`gsi.dem.spring_heat`.  Nothing here changes a force.
 The old energy is rebuilt from the lanes, without a stored field: |xi_old| is the
 length of the rotated spring xi_r = xi_trial - v_t dt (rotation keeps the length;
 xi_trial = xi in stick, xi/c - gamma_t v_t/k_t on the cap, c the Coulomb factor ``CT``
-of :func:`gsi.dem.contact.tangential.history`), and the previous overlap is that of the
+of :func:`gsi.dem.contact.tangential.history`; with c = 0, no friction, the old spring
+counts as 0: exact for mu = 0, a spring held into a step of exactly zero normal force is
+missed), and the previous overlap is that of the
 positions one drift back, x - v dt (the integrator's drift, :mod:`gsi.dem.integrate`):
 for a sphere pair |L n + u dt| with u = v_i - v_j = v - (a_i omega_i + a_j omega_j) x n,
 exactly; for a wall delta - v_n dt (exact for a plane moving by its velocity; a mesh
@@ -120,7 +122,11 @@ def dissipation(l0, l1, B, dt, kt_power):
         xy = B[HY + l]
         xz = B[HZ + l]
         # the rotated old spring: xi_trial - v_t dt
-        if c < 1.0:
+        if c == 0.0:         # no friction (mu |F_n| = 0): the spring was 0 before too
+            rx = 0.0
+            ry = 0.0
+            rz = 0.0
+        elif c < 1.0:
             g = gamma_t / k_t
             rx = xx / c - g * vtx - vtx * dt
             ry = xy / c - g * vty - vty * dt
