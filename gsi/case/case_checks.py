@@ -207,13 +207,25 @@ def check_radiation(case, dt: float) -> None:
 
 #: the unit of each motion key, for the wall-speed refusal
 HINT = {"rpm": "rpm: revolutions per minute", "omega": "omega: rad/s",
-        "velocity": "velocity: m/s"}
+        "velocity": "velocity: m/s",
+        "amplitude": "amplitude: m, or rad about an axis; peak speed 2 pi frequency "
+                     "amplitude, times the largest distance from the axis for a rotation",
+        "max_speed": "max_speed: m/s, the servo's largest speed"}
+
+
+def _reach(V, axis, centre) -> float:
+    """The largest distance (m) of the vertices ``V`` from the axis through ``centre``."""
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    rel = V - np.asarray(centre, float)
+    return float(np.linalg.norm(rel - np.outer(rel @ a, a), axis=1).max())
 
 
 def _fastest_state(w, base_dir):
     """(surface speed bound (m/s), key of the motion value that sets it) of a moving wall:
     |v| + |omega| x the largest distance of its vertices from the rotation axis, at the
-    start and at every schedule event (None for a wall that does not move)."""
+    start and at every schedule event; an oscillation's peak speed 2 pi f A (a rotation:
+    2 pi f theta r_max), a servo's ``max_speed`` (None for a wall that does not move, and
+    for a free wall, whose speed the particles decide)."""
     mo = w.motion
     if mo is None or not mo.moves:
         return None
@@ -223,6 +235,15 @@ def _fastest_state(w, base_dir):
         V = w.surface(base_dir=base_dir)[0] if w.kind not in ("plane", "box") else None
     except (GsiInputError, AttributeError, ValueError):
         V = None
+    if mo.kind == "oscillation":      # peak speed 2 pi f A (a rotation: times the reach)
+        peak = 2.0 * math.pi * mo.frequency * mo.amplitude
+        if mo.axis is not None:
+            if V is None:
+                return None
+            peak *= _reach(V, mo.axis, mo.centre)
+        return peak, "motion.amplitude"
+    if mo.kind == "servo":
+        return float(mo.max_speed), "motion.max_speed"
     events = list(enumerate(getattr(mo, "events", None) or []))
     best = (0.0, None)
     for k, e in [(None, None)] + events:
@@ -230,10 +251,7 @@ def _fastest_state(w, base_dir):
         v, omega, c = mo.state_at(t, axis=axis, centre=centre)
         speed = float(np.linalg.norm(v))
         if np.any(omega) and V is not None and c is not None:
-            a = omega / np.linalg.norm(omega)
-            rel = V - np.asarray(c, float)
-            reach = float(np.linalg.norm(rel - np.outer(rel @ a, a), axis=1).max())
-            speed += float(np.linalg.norm(omega)) * reach
+            speed += float(np.linalg.norm(omega)) * _reach(V, omega, c)
         src = mo if e is None else e
         name = ("rpm" if getattr(src, "rpm", None) is not None else
                 "omega" if getattr(src, "omega", None) is not None else "velocity")

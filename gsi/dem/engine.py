@@ -38,12 +38,13 @@ import numpy as np
 from gsi.jit import njit, pjit, prange, uint
 from gsi.dem.contact.lanes import CH, NB, A2, RI, RJ, DTEMP, Q
 from gsi.dem.contact.model import (evaluate_heat, model_ids, M_HEAT, M_LOG, M_ROLLING,
-                                   M_FRICTION, NORMAL, ROLLING, HEAT)
+                                   M_FRICTION, M_NORMAL, NORMAL, ROLLING, HEAT)
 from gsi.dem.contact_geometry import spheres_touch, wall_radius2, plane_distance
 from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample, empty_log_state
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
                                reduce_scans, verdict)
 from gsi.dem.pair_lanes import gather_pairs, finish_pairs
+from gsi.dem.spring_heat import book_ended_springs
 from gsi.dem.wall_lanes import gather_walls, finish_walls, plane_count
 from gsi.dem.state import (Particles, Pairs, Planes, Mesh, WallContacts, as_tuple,
                            MAX_WALL_SLOTS)
@@ -73,6 +74,8 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     wc = WallContacts(*wct)
     # frictional heat also heats the particles (T += dt Q/(m c_p))
     heat_on = model[M_HEAT] != 0 or model[M_FRICTION] != 0
+    if model[M_FRICTION] != 0 and dt > 0.0:    # springs of ended contacts into heat
+        book_ended_springs(sl, P, pairs, pl, wc, plh, tab, nt, dt, model[M_NORMAL], pl_acc)
     roll_on = model[M_ROLLING] != 0
     # pair batch: lanes, lane -> pair row, partner, table row; batch rows and their lanes
     B = np.zeros(NB * CH)     # zeros: see gsi.dem.contact.model.evaluate
