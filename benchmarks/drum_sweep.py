@@ -141,6 +141,7 @@ def main(argv=None):
                         float("nan"), f"mb_{key}": mb})
             res[(f, n, m)] = dict(eq10=e, ratio=ratio, mb=mb)
     out["seconds"] = time.perf_counter() - t_all
+    out["dt_scale"] = repr(args.dt_scale)         # all digits: 1.000000000001
     print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
                    for k, v in out.items()))
     return res
