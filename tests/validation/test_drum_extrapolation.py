@@ -36,9 +36,17 @@ Checked (claims on the ensemble mean, bound = mean +- 3 SE, conftest):
   (ratio of the ensemble means measured 1.50-1.57 at t2, 1.08-1.19 at t3, t4; M = 4 at
   dt and at dt (1 + 1e-12));
 - the hot and cold means (the seed's Fig. 7): the halves do mix, and the extrapolated gap
-  T_hot - T_cold stays within 10 % of the DEM's at every t_n (ensemble means measured
-  0.5-2.5 %, mean + 3 SE at most 5.5 %; the single-run test's 2 % was one trajectory: the
-  CI host's gave 2.4-3.7 % at t5-t7, and the members' sd reaches 2 % at t4);
+  T_hot - T_cold is off the DEM's by at most what eq. 10's bound allows: the gap G is the
+  heat the halves have exchanged since t1, so moved with a relative error e it is off by
+  e (G1 - Gn), i.e. |gap_ext - gap_dem|/gap_dem <= 0.25 (G1/Gn - 1) with eq. 10's
+  regression bound e = 0.25 and the DEM's own G1/Gn (ensemble mean): 1.9, 4.4, 7.9 % at
+  t2, t3, t4 (this replaced a flat 10 %, 2026-12-05).  Measured (M = 4, mean +- SE, at dt
+  and at dt (1 + 1e-12)): signed -0.52 +- 0.13, -1.26 +- 0.11, -1.96 +- 0.36 % and
+  -0.75 +- 0.22, -1.70 +- 0.42, -2.51 +- 0.98 %: the extrapolated halves always mix
+  faster, by the heat the halves exchange times 6-10 % -- the same excess as eq. 10's
+  -6 to -8 %.  The twin DEM's gap differs from the reference's by only 0.05-0.66 %: the
+  gap error is the method's bias, not the flow's chaos, so the twin is no yardstick here;
+  the seed's 5 % carried over the same way (0.38, 0.88, 1.6 %) is the goal;
 - eq. 10 (heat moved per period): the seed's 5 % per period (its Fig. 10: 0.1-4.5 %) is
   the goal, not met at 640 particles: ensemble means per period -2 % to -10 % (the
   extrapolation moves more heat than the DEM; the members' means over t2..t4 -8.2 % +-
@@ -72,6 +80,8 @@ M, PERIODS = 4, 3
 SD_EPS_EXCESS = 0.25       # K, eps_abs(extra) - 1.5 eps_abs(twin)
 SD_GAP = 0.006             # relative gap difference
 SD_EQ10 = 0.02             # eq. 10
+#: eq. 10's regression bound (test_heat_moved_per_period_eq10), also the hot/cold gap's
+EQ10_BOUND = 0.25
 
 
 @pytest.fixture(scope="module")
@@ -187,21 +197,26 @@ def test_hot_and_cold_means_follow_the_full_dem(ensemble, ens, record_validation
     mix = ens.stat(gd[:, -1] / gd[:, 0], 0.01)
     assert (mix.upper() < 0.8).all(), mix.text()                 # the halves do mix
     s = ens.stat(np.abs(ge - gd)[:, 1:] / gd[:, 1:], SD_GAP)
+    # the bound: the gap is the heat the halves have exchanged since t1; moved with eq.
+    # 10's relative error e (the extrapolation's heat moved per period), the extrapolated
+    # gap at t_n is off by e (G1 - Gn), i.e. by e (G1/Gn - 1) of Gn, with e = EQ10_BOUND
+    # and G1/Gn the DEM's own mixing (its ensemble mean)
+    mixed = (gd[:, :1] / gd[:, 1:]).mean(0) - 1.0
+    bound = EQ10_BOUND * mixed
     gt = np.array([m["gap_twin"] for m in members])
     tw = ens.stat(np.abs(gt - gd)[:, 1:] / gd[:, 1:])
-    print(f"MEASURE gap: ext {np.round(np.abs(ge - gd)[:, 1:] / gd[:, 1:], 5).tolist()} twin "
-          f"{np.round(np.abs(gt - gd)[:, 1:] / gd[:, 1:], 5).tolist()}; ext {s.text()}; "
-          f"twin {tw.text()}; signed ext {ens.stat((ge - gd)[:, 1:] / gd[:, 1:]).text()}; "
-          f"gd/gd0 {np.round(gd / gd[:, :1], 4).tolist()}")
-    ext = np.array([m["run"]["energy_error"] for m in members])
-    print(f"MEASURE eq10 members {np.round(ext, 4).tolist()}")
-    print(f"|gap_ext - gap_dem|/gap_dem at t2..t4: {s.text()}; gap_dem/gap_dem(t1) at the"
-          f" end {mix.text()}")
+    print(f"|gap_ext - gap_dem|/gap_dem at t2..t4: {s.text()}; bounds {np.round(bound, 4)}; "
+          f"signed {ens.stat((ge - gd)[:, 1:] / gd[:, 1:]).text()}; twin DEM {tw.text()}; "
+          f"gap_dem/gap_dem(t1) at the end {mix.text()}")
     record_validation("quick drum (640, M = 4): |gap_extra - gap_DEM|/gap_DEM of the hot and "
-                      "cold means, largest ensemble mean + 3 SE", reference=0.10,
-                      measured=float(s.upper().max()), tolerance=0.10, kind="bound",
-                      source="seed 003 Fig. 7")
-    assert (s.upper() <= 0.10).all(), s.text()
+                      "cold means, largest (ensemble mean + 3 SE)/bound over t2..t4",
+                      reference=1.0, measured=float((s.upper() / bound).max()), tolerance=1.0,
+                      kind="bound", source="seed 003 Fig. 7; eq. 10's bound carried to the gap",
+                      note="bound at t_n: 0.25 (G1/Gn - 1) = " +
+                           ", ".join(f"{100 * b:.1f} %" for b in bound),
+                      goal="the seed's eq. 10 <= 5 %: 0.05 (G1/Gn - 1) = " +
+                           ", ".join(f"{100 * b / 5:.2f} %" for b in bound))
+    assert (s.upper() <= bound).all(), s.text()
 
 
 def test_heat_moved_per_period_eq10(ensemble, ens, record_validation):
@@ -211,11 +226,12 @@ def test_heat_moved_per_period_eq10(ensemble, ens, record_validation):
     print(f"eq. 10 (signed) at t2..t4: {ens.stat(e).text()}; |mean over the periods| "
           f"{s.text()}")
     record_validation("quick drum (640, M = 4): eq. 10, |mean over t2..t4|, ensemble mean "
-                      "+ 3 SE", reference=0.25, measured=float(s.upper()), tolerance=0.25,
+                      "+ 3 SE", reference=EQ10_BOUND, measured=float(s.upper()),
+                      tolerance=EQ10_BOUND,
                       kind="bound", source="seed 003 eq. 10",
                       goal="seed 003 Fig. 10: 0.1-4.5 % per period (<= 5 %); not met at 640 "
                            "particles", note="regression bound; the seed's 5 % is the goal")
-    assert s.upper() <= 0.25, s.text()
+    assert s.upper() <= EQ10_BOUND, s.text()
 
 
 @pytest.fixture(scope="module")
