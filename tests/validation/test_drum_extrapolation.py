@@ -236,8 +236,9 @@ def test_heat_moved_per_period_eq10(ensemble, ens, record_validation):
                       "periods|, ensemble mean + 3 SE", reference=EQ10_BOUND, measured=float(s.upper()),
                       tolerance=EQ10_BOUND,
                       kind="bound", source="seed 003 eq. 10",
-                      goal="seed 003 Fig. 10: 0.1-4.5 % per period (<= 5 %); not met at 640 "
-                           "particles", note="regression bound; the seed's 5 % is the goal")
+                      goal="seed 003 Fig. 10: 0.1-4.5 % per period (<= 5 %); at 640 "
+                           "particles, half a turn, the ensemble means 3.8-4.7 %, not at "
+                           "mean + 3 SE", note="regression bound; the seed's 5 % is the goal")
     assert s.upper() <= EQ10_BOUND, s.text()
 
 
