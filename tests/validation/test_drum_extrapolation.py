@@ -49,7 +49,8 @@ Checked (claims on the ensemble mean, bound = mean +- 3 SE, conftest):
   heat the halves have exchanged since t1, so moved with a relative error e it is off by
   e (G1 - Gn), i.e. |gap_ext - gap_dem|/gap_dem <= 0.25 (G1/Gn - 1) with eq. 10's
   regression bound e = 0.25 and the DEM's own G1/Gn (ensemble mean): 5.5, 15 % at t2, t3
-  with half a turn (this replaced a flat 10 %, 2026-12-05; measured, M = 3: 0.96 +- 0.35,
+  with half a turn, capped by the flat 10 % it replaced (2026-12-05), so 5.5, 10 %
+  (measured, M = 3: 0.96 +- 0.35,
   2.3 +- 1.1 % and 0.90 +- 0.65, 2.8 +- 0.8 %).  Measured with the quarter
   turn (M = 4, mean +- SE, at dt and at dt (1 + 1e-12)): signed -0.52 +- 0.13, -1.26 +-
   0.11, -1.96 +- 0.36 % and -0.75 +- 0.22, -1.70 +- 0.42, -2.51 +- 0.98 % at t2..t4: the
@@ -209,7 +210,8 @@ def test_hot_and_cold_means_follow_the_full_dem(ensemble, ens, record_validation
     # gap at t_n is off by e (G1 - Gn), i.e. by e (G1/Gn - 1) of Gn, with e = EQ10_BOUND
     # and G1/Gn the DEM's own mixing (its ensemble mean)
     mixed = (gd[:, :1] / gd[:, 1:]).mean(0) - 1.0
-    bound = EQ10_BOUND * mixed
+    # ... and never looser than the flat 10 % it replaced (at t3 the carried bound is 15 %)
+    bound = np.minimum(EQ10_BOUND * mixed, 0.10)
     gt = np.array([m["gap_twin"] for m in members])
     tw = ens.stat(np.abs(gt - gd)[:, 1:] / gd[:, 1:])
     print(f"|gap_ext - gap_dem|/gap_dem at t2..t4: {s.text()}; bounds {np.round(bound, 4)}; "
@@ -219,10 +221,10 @@ def test_hot_and_cold_means_follow_the_full_dem(ensemble, ens, record_validation
                       "of the hot and cold means, largest (ensemble mean + 3 SE)/bound",
                       reference=1.0, measured=float((s.upper() / bound).max()), tolerance=1.0,
                       kind="bound", source="seed 003 Fig. 7; eq. 10's bound carried to the gap",
-                      note="bound at t_n: 0.25 (G1/Gn - 1) = " +
+                      note="bound at t_n: min(0.25 (G1/Gn - 1), 10 %) = " +
                            ", ".join(f"{100 * b:.1f} %" for b in bound),
                       goal="the seed's eq. 10 <= 5 %: 0.05 (G1/Gn - 1) = " +
-                           ", ".join(f"{100 * b / 5:.2f} %" for b in bound))
+                           ", ".join(f"{100 * b:.2f} %" for b in 0.05 * mixed))
     assert (s.upper() <= bound).all(), s.text()
 
 
