@@ -54,7 +54,9 @@ def main(argv=None):
                     help="period tau in drum turns (default 1, the seed's reference)")
     ap.add_argument("--every", default="1,10", help="sampling factors n (default 1,10)")
     ap.add_argument("--dt-split", type=float, default=0.01,
-                    help="Delta t_c^max (s), default 0.01 (100 steps)")
+                    help="Delta t_c^max (s), default 0.01 (100 steps); the seed's is 0.001 "
+                         "(10 steps, gsi.studies.drum.DT_SPLIT): the same errors on the quick "
+                         "drum and a log 8 times larger (benchmarks/drum_sweep.py)")
     ap.add_argument("--twin", type=float, default=None, metavar="AMP",
                     help="also run a second DEM from t1 with every position moved by up to "
                          "AMP m, and give eq. 9 between the two DEMs (the error that chaos "

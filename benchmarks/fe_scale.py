@@ -35,25 +35,33 @@ The direct solver is skipped above ``--direct-max-dofs`` (its memory grows faste
 dofs), the static problem above ``--static-max-dofs`` (from u = 0 the iterative solver
 needs ~2000 CG iterations on this thin wall: 27 s on one rank at 1e4 dofs).
 
-Crossover (measured 2026-12-02 on the 2-core test machine while other jobs loaded it,
-load average 4-6: the times are 2-3 times an idle machine's; ``solver = "auto"`` takes its
-threshold, :data:`gsi.fem.options.AUTO_LARGE_DOFS`, from these figures):
+With ``--structure plate`` the same is done for the clamped circular plate of the
+validation case 6b (radius 0.5 m, 20 mm steel, two P2 layers, dt = 2.5e-4 s = T_1 / 20);
+the last line then starts ``structure=plate``. Each record names its preconditioner
+(``pc``: lu, cholesky, hypre, gamg); the last line gives, besides the headline solver's
+``its_at_max``/``setup_s_at_max``, the other solver's as ``its_at_max_<solver>``,
+``setup_s_at_max_<solver>``.
 
-* elasticity, dynamic step: the direct solve is 60-670 times faster than the iterative
-  one at every size measured (1e4-1e5 dofs; 1e5 on 2 ranks: 1.4 s against 81 s, 505 CG
-  iterations), and a single solve, factorization included, is cheaper too (1e5 on 2
-  ranks: 37 s against 102 s; the direct one at 2e5: 41.6 s, 4.9 GB); its memory is what
-  stops it: SuperLU_DIST on 2 ranks held 12.4 GB for the 2.8e5-dof membrane of
-  benchmarks/coupled_large.py (two P2 layers). The iterative solver's iterations fall as
-  the mesh is refined (the elements' in-plane size approaches the wall's 10 mm: 884 at 1e4,
-  505 at 1e5, 159 at 1e6 dofs), so its step time grows as dofs^0.67 on 2 ranks;
-* elasticity out of core (``out_of_core``: MUMPS Cholesky, METIS, the factor on disk), 2
-  ranks: 0.88 s per step at 4e5 dofs (2.9 GB; 0.53 s and 4.65 GB with the factor in
-  memory) and 3.74 s at 998,280 dofs in 6.82 GB (set-up 1,882 s with each rank on half a
-  core): the direct solve keeps its lead at every size, so ``auto`` takes it from where
-  the in-memory factor passes the 8 GB of a 2-rank run;
-* heat: CG + BoomerAMG needs 9-13 iterations at every size; per step it is 1-10 times
-  slower than the direct solve up to 1e5 dofs, its set-up 2-6 times faster.
+Crossover, issue 33's second step (2026-12-05, 1 rank, the host loaded 7-13 by other
+jobs: ratios, not absolute times; iterative = CG + BoomerAMG, gsi's default since then;
+direct = MUMPS LU; set-up / step wall seconds, CG iterations per step):
+
+* shell, dynamic: 9.9e3 dofs 1.32 / 0.020 (direct) against 0.34 / 4.31, 204 its;
+  2.5e4 6.20 / 0.078 against 1.00 / 17.4, 188; 7.3e4 42.0 / 0.25 against 3.07 / 52.2,
+  160; 2.0e5 262 / 0.86 (3.37 GB) against 8.74 / 71.3, 126. The direct step is 80-220
+  times faster, its set-up 4-30 times slower: the iterative path is cheaper in total for
+  runs shorter than 0.2 / 0.3 / 0.75 / 3.6 steps;
+* shell, heat (2.0e5): 49.8 / 0.43 against 5.2 / 3.9, 8 its: break-even at 13 steps;
+* plate: see docs/performance.md ("Iterative FE solver: crossover and scaling model")
+  and the records in benchmarks/results/fe_scale.json.
+
+So ``auto`` stays direct wherever the factor fits. Earlier figures (2026-12-02, CG +
+GAMG, 2 ranks, load 4-6): the direct dynamic step 60-670 times faster at 1e4-1e5 dofs
+(1e5: 1.4 s against 81 s, 505 GAMG iterations); out of core, 2 ranks: 0.88 s per step at
+4e5 dofs (2.9 GB) and 3.74 s at 998,280 dofs in 6.82 GB (set-up 1,882 s). GAMG's count
+fell with the dofs (884 / 505 / 159 at 1e4 / 1e5 / 1e6) because the wall keeps one layer
+while h falls (the elements get less flat), not because the method scales: refined
+uniformly, every count grows (benchmarks/shell_precond.py).
 
 Run::
 
@@ -63,6 +71,9 @@ Run::
         --steps 1 --static-max-dofs 1.1e4
     mpirun -n 2 python benchmarks/fe_scale.py --solver out_of_core --problems dynamic \
         --min-dofs 1e6 --max-dofs 1e6 --sizes 1 --steps 3
+    python benchmarks/fe_scale.py --structure shell --solver both --min-dofs 1e4 \
+        --max-dofs 2e5 --sizes 4 --steps 1 --problems dynamic,heat --direct-max-dofs 2.1e5
+    (the same with --structure plate)
 """
 from __future__ import annotations
 
@@ -86,6 +97,7 @@ from gsi.fem.surface import ContactSurface  # noqa: E402
 from gsi.meshes import shell  # noqa: E402
 
 DT_DYNAMIC = 1.25e-4     # s, T_1 / 20 of the default shell (T_1 = 2.5 ms)
+DT_PLATE = 2.5e-4        # s, T_1 / 20 of the clamped plate (T_1 about 5 ms)
 DT_HEAT = 1.0            # s
 
 
@@ -144,9 +156,10 @@ def _surface_loads(s, k: int) -> np.ndarray:
                  -1.0 - 0.02 * k - x[:, 1] ** 2]
 
 
-def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> dict:
+def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict,
+                   dt: float = DT_DYNAMIC) -> dict:
     comm = MPI.COMM_WORLD
-    kw = dict(dt=DT_DYNAMIC, rho_inf=0.3) if scheme != "static" else {}
+    kw = dict(dt=dt, rho_inf=0.3) if scheme != "static" else {}
     reset_peak_memory()
     base = resident_memory(comm)
     comm.barrier()
@@ -163,7 +176,7 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict) -> d
     peak, rank_peak = peak_memory(comm)
     its = p.iterations
     out = dict(problem="static" if scheme == "static" else "dynamic", solver=p.solver_kind,
-               dofs=p.n_dofs, setup_s=t_setup, first_s=times[0],
+               pc=p.linear_solver.ksp.getPC().getType(), dofs=p.n_dofs, setup_s=t_setup, first_s=times[0],
                step_s=float(np.mean(times[1:])), its_first=its[0],
                its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
                surface_vertices=s.n_vertices, umax=p.max_displacement())
@@ -207,7 +220,8 @@ def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
     t_setup, times = _timed(comm, h.set_up, load, h.step, n_steps)
     peak, rank_peak = peak_memory(comm)
     its = h.iterations
-    out = dict(problem="heat", solver=h.solver_kind, dofs=h.n_dofs, setup_s=t_setup,
+    out = dict(problem="heat", solver=h.solver_kind, pc=h.linear_solver.ksp.getPC().getType(),
+               dofs=h.n_dofs, setup_s=t_setup,
                first_s=times[0], step_s=float(np.mean(times[1:])), its_first=its[0],
                its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
                surface_vertices=s.n_vertices, Tmax=h.min_max()[1])
@@ -215,13 +229,21 @@ def run_heat(sm, solver: str, n_steps: int, petsc: dict) -> dict:
     return out
 
 
-def build(target: float, *, n_thickness: int, components: int) -> tuple[object, float, float]:
-    """(mesh, h, build seconds) of the shell with about ``target`` dofs."""
+def build(target: float, *, n_thickness: int, components: int,
+          structure: str = "shell") -> tuple[object, float, float]:
+    """(mesh, h, build seconds) of the shell (or the clamped plate) with about ``target``
+    dofs. The plate (radius 0.5 m, 20 mm steel, two P2 layers whatever ``n_thickness``):
+    23.7e3 vector dofs at h = 0.05 m, dofs ~ 1/h^2."""
     comm = MPI.COMM_WORLD
-    h = shell.h_for_dofs(target, n_thickness=n_thickness, components=components)
+    if structure == "plate":
+        h = 0.05 * (23.7e3 * components / (3.0 * target)) ** 0.5
+        args = dict(shape="circle", radius=0.5, thickness=0.02, h=h, n_thickness=2)
+    else:
+        h = shell.h_for_dofs(target, n_thickness=n_thickness, components=components)
+        args = dict(h=h, n_thickness=n_thickness)
     comm.barrier()
     t0 = time.perf_counter()
-    sm = meshes.build("shell", h=h, n_thickness=n_thickness)
+    sm = meshes.build("membrane" if structure == "plate" else "shell", **args)
     comm.barrier()
     return sm, h, time.perf_counter() - t0
 
@@ -244,6 +266,9 @@ def main() -> None:
                     help="comma-separated subset of static,dynamic,heat")
     ap.add_argument("--steps", type=int, default=2, help="timed steps after the first solve")
     ap.add_argument("--n-thickness", type=int, default=1, help="P2 element layers in the wall")
+    ap.add_argument("--structure", choices=["shell", "plate"], default="shell",
+                    help="the silo shell, or the clamped plate of validation case 6b "
+                         "(dt = 2.5e-4 s, T_1 / 20)")
     ap.add_argument("--direct-max-dofs", type=float, default=4e5,
                     help="skip the direct solver above this size (memory)")
     ap.add_argument("--static-max-dofs", type=float, default=2e5,
@@ -263,6 +288,7 @@ def main() -> None:
                "all": ["direct", "out_of_core", "iterative"]}.get(args.solver, [args.solver])
     petsc = json.loads(args.petsc)
     petsc_direct = json.loads(args.petsc_direct)
+    dt = DT_PLATE if args.structure == "plate" else DT_DYNAMIC
     load0 = load_average()
     targets = np.geomspace(args.min_dofs, args.max_dofs, args.sizes)
     if args.largest_first:
@@ -279,7 +305,7 @@ def main() -> None:
     def report(r):
         records.append(r)
         if comm.rank == 0:
-            print(f"{r['problem']:8s} {r['solver']:9s} dofs={r['dofs']:8d} h={r['h']:.4g} "
+            print(f"{r['problem']:8s} {r['solver']:9s} {r['pc']:6s} dofs={r['dofs']:8d} h={r['h']:.4g} "
                   f"mesh={r['mesh_s']:.1f}s setup={r['setup_s']:.2f}s first={r['first_s']:.2f}s "
                   f"step={r['step_s']:.3f}s its={r['its_first']}/{r['its_step']:.0f} "
                   f"peak={r['peak_gb']:.2f}GB (rank max {r['rank_gb']:.2f}, at start "
@@ -289,7 +315,8 @@ def main() -> None:
 
     for target in targets:
         if {"static", "dynamic"} & set(problems):
-            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=3)
+            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=3,
+                                  structure=args.structure)
             for solver in solvers:
                 if solver == "direct" and target > args.direct_max_dofs:
                     continue
@@ -298,11 +325,12 @@ def main() -> None:
                     if prob == "static" and target > args.static_max_dofs:
                         continue
                     if prob in problems:
-                        r = run_elasticity(sm, scheme, solver, args.steps, opts)
+                        r = run_elasticity(sm, scheme, solver, args.steps, opts, dt=dt)
                         report(dict(r, h=h, mesh_s=t_mesh, ranks=comm.size))
             del sm
         if "heat" in problems:
-            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=1)
+            sm, h, t_mesh = build(target, n_thickness=args.n_thickness, components=1,
+                                  structure=args.structure)
             for solver in solvers:
                 if solver == "direct" and target > args.direct_max_dofs:
                     continue
@@ -324,10 +352,10 @@ def main() -> None:
                     key=lambda r: r["dofs"])
         return [r["dofs"] for r in rs], [r["step_s"] for r in rs], rs
 
-    kv = [f"ranks={comm.size}", f"solver={main_solver}"]
+    kv = [f"structure={args.structure}", f"ranks={comm.size}", f"solver={main_solver}"]
     dofs, steps, rs = pick("dynamic", main_solver)
     if rs:
-        kv += [f"max_dofs={dofs[-1]}", f"step_s_at_max={steps[-1]:.4g}",
+        kv += [f"pc={rs[-1]['pc']}", f"max_dofs={dofs[-1]}", f"step_s_at_max={steps[-1]:.4g}",
                f"its_at_max={rs[-1]['its_step']:.0f}", f"setup_s_at_max={rs[-1]['setup_s']:.4g}"]
     kv += [f"peak_mem_gb={max(r['peak_gb'] for r in records):.3g}",
            f"exponent={slope(dofs, steps):.3f}"]
@@ -335,6 +363,8 @@ def main() -> None:
         d, t, rs = pick("dynamic", other)
         if rs and other != main_solver:
             kv += [f"step_s_at_max_{other}={t[-1]:.4g}", f"dofs_at_max_{other}={d[-1]}",
+                   f"its_at_max_{other}={rs[-1]['its_step']:.0f}",
+                   f"setup_s_at_max_{other}={rs[-1]['setup_s']:.4g}",
                    f"exponent_{other}={slope(d, t):.3f}"]
     for prob in ("static", "heat"):
         d, t, rs = pick(prob, main_solver)

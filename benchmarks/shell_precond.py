@@ -16,11 +16,11 @@ nodal loads on the contact surface, times (1 - alpha_f), Dirichlet rows zeroed.
 
 Candidates (``--candidates``, PETSc 3.18 / hypre as Debian 12 builds them):
 
-* ``gamg``: gsi's iterative solver today, GAMG smoothed aggregation with the six
-  rigid-body modes as its near-nullspace, Chebyshev/Jacobi smoothing
-  (:data:`gsi.fem.options.ITERATIVE_DEFAULTS`);
+* ``gamg``: GAMG smoothed aggregation with the six rigid-body modes as its
+  near-nullspace, Chebyshev/Jacobi smoothing (gsi's ``pc_type = "gamg"``,
+  :data:`gsi.fem.options.ITERATIVE_DEFAULTS`; its iterative default before issue 33);
 * ``gamg_sor``: the same with an SOR smoother under Chebyshev (a cheap GAMG variant);
-* ``hypre_sys``: BoomerAMG, systems form ("unknown" approach: the 3 components coarsened
+* ``hypre_sys``: gsi's iterative default for elasticity now: BoomerAMG, systems form ("unknown" approach: the 3 components coarsened
   separately, the matrix's block size 3 gives hypre its number of functions), HMIS
   coarsening, extended+i interpolation, strong threshold 0.5;
 * ``hypre_nodal``: BoomerAMG, nodal form: nodes coarsened together
@@ -38,6 +38,9 @@ Candidates (``--candidates``, PETSc 3.18 / hypre as Debian 12 builds them):
   (on 1 rank: a direct solve, 1 iteration; the baseline of the domain-decomposition
   family);
 * ``bddc``: PCBDDC on a MATIS matrix, if ``--bddc`` is given (see below);
+* ``bddc_deluxe``: the same with deluxe scaling (``pc_bddc_use_deluxe_scaling``: the
+  interface averaged with the subdomains' Schur complements instead of their diagonal),
+  named in ``--candidates``;
 * ``pmg_gamg``: p-multigrid, PCMG on two levels: the P2 space smoothed by two
   Chebyshev/Jacobi sweeps, the P1 space (the interpolation P1 -> P2 of dolfinx 0.5.2's
   ``interpolation_matrix`` as prolongation, the Galerkin operator P^T A P) by one GAMG
@@ -103,7 +106,10 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   Measured on the quiet host (2 ranks, load 2-3, uniform 3.2e4 dofs): per step GAMG
   8.0 s, systems 19.0 s, nodal t0.7 44.7 s on the shell; on the plate BoomerAMG's
   iterations cost about GAMG's and it is 5-8 times faster per step (3.2e4: systems 1.55 s,
-  nodal 2.5 s, GAMG 12.8 s).
+  nodal 2.5 s, GAMG 12.8 s). Re-run 2026-12-05 at one load (6.5-7.4, 2 ranks, uniform
+  3.2e4 shell): GAMG 1,471 its in 1.1 + 76.3 s, systems 425 its in 0.4 + 49.6 s: the
+  8-times cost per iteration and GAMG's lead above were not reproduced (a BoomerAMG
+  iteration cost 2.2 times a GAMG one; 2.1-2.3 times in CPU time on the one-layer shell).
 * p-multigrid (GAMG under a P2 -> P1 level) saves a quarter to a third of GAMG's
   iterations with the same growth; on the quiet host its step costs 3 times GAMG's on the
   shell (23.8 s against 8.0 s) and half of it on the plate.
@@ -118,6 +124,17 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   two subdomains cannot show its growth with their number. On the uniformly refined
   shell its 1e-8 count grows from 110 to 285 (4.9e3 -> 3.2e4 dofs), BoomerAMG nodal's
   from 110 to 169.
+* BDDC with deluxe scaling (2026-12-05, uniformly refined shell, 4.9e3 / 3.2e4 dofs, CG
+  iterations to 1e-8 of the initial residual; each rank a subdomain, 4 and 8 ranks
+  oversubscribed on the 2 cores, which leaves the counts alone): 2 subdomains 12 / 19
+  (plain BDDC 110 / 285, BoomerAMG systems 153 / 276), 4 subdomains 29 / 21,
+  8 subdomains 83 / 178. With few subdomains it is the best preconditioner measured
+  here (3.2e4, 2 ranks, load 10: set-up 10.3 s + solve 4.6 s against BoomerAMG's 1.0 s +
+  92.5 s), but its count grows with the number of subdomains (PETSc's default coarse
+  space: subdomain vertices and edge/face averages), so it does not yet scale; and like
+  plain BDDC it breaks down (PETSc reason -8, indefinite preconditioner) at 2e-12 to
+  3e-11 of the initial residual, short of gsi's 1e-12. Not tried: an adaptive coarse
+  space (``pc_bddc_adaptive_threshold``), which targets this growth.
 * GAMG with an SOR smoother under Chebyshev fails from 3e4 dofs on (the preconditioner's
   Chebyshev eigenvalue estimate breaks down: PETSc reason -11).
 
@@ -163,8 +180,8 @@ _HYPRE_COMMON = {"pc_type": "hypre", "pc_hypre_type": "boomeramg",
                  "pc_hypre_boomeramg_P_max": "4",
                  "pc_hypre_boomeramg_agg_nl": "0"}
 CANDIDATES = {
-    "gamg": dict(ITERATIVE_DEFAULTS["elasticity"]),
-    "gamg_sor": dict(ITERATIVE_DEFAULTS["elasticity"], mg_levels_pc_type="sor"),
+    "gamg": dict(ITERATIVE_DEFAULTS["elasticity_gamg"]),
+    "gamg_sor": dict(ITERATIVE_DEFAULTS["elasticity_gamg"], mg_levels_pc_type="sor"),
     "hypre_sys": dict(_HYPRE_COMMON),
     "hypre_nodal": dict(_HYPRE_COMMON, pc_hypre_boomeramg_nodal_coarsen="6",
                         pc_hypre_boomeramg_vec_interp_variant="2",
@@ -176,6 +193,7 @@ CANDIDATES = {
     "bjacobi_lu": {"pc_type": "bjacobi", "sub_pc_type": "cholesky",
                    "sub_pc_factor_mat_solver_type": "mumps"},
     "bddc": {"pc_type": "bddc"},
+    "bddc_deluxe": {"pc_type": "bddc", "pc_bddc_use_deluxe_scaling": ""},
     "pmg_gamg": {"pc_type": "mg", "pc_mg_levels": "2", "pc_mg_galerkin": "none",
                  "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
                  "mg_levels_esteig_ksp_type": "cg", "mg_levels_ksp_max_it": "2",
@@ -189,7 +207,7 @@ CANDIDATES = {
 #: rotations only (hypre's interpolation vectors: the translations are the per-function
 #: constants its interpolation reproduces already) or none
 NULLSPACE = {"gamg": "rbm", "gamg_sor": "rbm", "hypre_nodal": "rotations",
-             "hypre_nodal_t07": "rotations", "bddc": "rbm"}
+             "hypre_nodal_t07": "rotations", "bddc": "rbm", "bddc_deluxe": "rbm"}
 
 
 def load_average() -> float:
@@ -344,7 +362,7 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm):
     prefix = f"sp_{name}_"
     settings = dict(CANDIDATES[name])
     # a copy of its own: the near-nullspace attached to the matrix is the candidate's
-    op = matis_matrix(p) if name == "bddc" else A.duplicate(copy=True)
+    op = matis_matrix(p) if name.startswith("bddc") else A.duplicate(copy=True)
     nsp = near_nullspace(p, op, NULLSPACE.get(name))
     if nsp is not None:
         op.setNearNullSpace(nsp)
@@ -466,7 +484,7 @@ def main() -> None:
             g = rs[-1]["its"] / max(rs[0]["its"], 1) if conv else float("nan")
             kv += [f"its_{c}_{st}={its_max}", f"growth_{c}_{st}={g:.3g}"]
             if st == "shell" and conv and len(rs) == len(targets) and not (
-                    comm.size == 1 and c in ("bjacobi_lu", "bddc")):
+                    comm.size == 1 and c in ("bjacobi_lu", "bddc", "bddc_deluxe")):
                 growth[c] = (g, rs[-1]["its"], rs[-1]["dofs"])
     if growth:
         best = min(growth, key=lambda c: (growth[c][0], growth[c][1]))

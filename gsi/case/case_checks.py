@@ -98,6 +98,24 @@ def check_stiffness(case) -> None:
                 f"0.1 r; check the units: Pa)")
 
 
+def placed_particles(case, i: int, p, lattice_radius: str):
+    """Known positions of particle source ``i`` (``p``) before the run: a file's rows
+    (x, radius) or a lattice fill's sites with its ``lattice_radius`` ("smallest" or
+    "largest" of its size distribution). Returns (x, r, key, what) -- ``key`` names the
+    source in messages, ``what`` one row ("row", "lattice site") -- or None for a random
+    fill or a stream, whose positions are drawn at the start."""
+    from gsi.case.sources import read_particle_file
+    if p.fill == "file":
+        data = read_particle_file(case.base_dir / p.file, key=f"particles[{i}].file",
+                                  shown=p.file)
+        return data["x"], data["radius"], f"particles[{i}].file = '{p.file}'", "row"
+    if p.fill == "lattice":
+        x = p.lattice_sites(f"particles[{i}]")
+        r = np.full(len(x), getattr(p.size, lattice_radius))
+        return x, r, f"particles[{i}].region", "lattice site"
+    return None
+
+
 def check_placed_overlaps(case) -> None:
     """Particles placed at known positions (files, lattice fills) must not overlap one
     another (within a file, or across sources) by more than MAX_OVERLAP of the smaller
@@ -105,24 +123,19 @@ def check_placed_overlaps(case) -> None:
     fill counts with its smallest radius here (its radii are drawn at the run's start,
     when :meth:`ParticleSource.add_to` checks again); overlaps with random fills
     (positions drawn at the start) are found there too."""
-    from gsi.case.sources import first_overlap, read_particle_file
+    from gsi.case.sources import first_overlap
     seen_x, seen_r, seen_from = [], [], []
     for i, p in enumerate(case.particles):
-        if p.fill == "file":
-            data = read_particle_file(case.base_dir / p.file, key=f"particles[{i}].file",
-                                      shown=p.file)
-            x, r = data["x"], data["radius"]
-            key, what = f"particles[{i}].file = '{p.file}'", "row"
-            # fixed particles cannot fly apart: their overlaps among themselves are
-            # the case's (e.g. seed 001 case 4's two particles at a given overlap)
-            hit = None if p.fixed else first_overlap(x, r, MAX_OVERLAP)
-            pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
-        elif p.fill == "lattice":
-            x = p.lattice_sites(f"particles[{i}]")
-            r = np.full(len(x), p.size.smallest)
-            key, what, hit = f"particles[{i}].region", "lattice site", None
-        else:
+        placed = placed_particles(case, i, p, "smallest")
+        if placed is None:
             continue
+        x, r, key, what = placed
+        hit = pair = None
+        # fixed particles of a file cannot fly apart: their overlaps among themselves
+        # are the case's (e.g. seed 001 case 4's two particles at a given overlap)
+        if p.fill == "file" and not p.fixed:
+            hit = first_overlap(x, r, MAX_OVERLAP)
+            pair = None if hit is None else f"rows {hit[0]} and {hit[1]}"
         if hit is None and seen_x:
             hit = first_overlap(x, r, MAX_OVERLAP, other_x=np.concatenate(seen_x),
                                 other_r=np.concatenate(seen_r))
@@ -194,13 +207,25 @@ def check_radiation(case, dt: float) -> None:
 
 #: the unit of each motion key, for the wall-speed refusal
 HINT = {"rpm": "rpm: revolutions per minute", "omega": "omega: rad/s",
-        "velocity": "velocity: m/s"}
+        "velocity": "velocity: m/s",
+        "amplitude": "amplitude: m, or rad about an axis; peak speed 2 pi frequency "
+                     "amplitude, times the largest distance from the axis for a rotation",
+        "max_speed": "max_speed: m/s, the servo's largest speed"}
+
+
+def _reach(V, axis, centre) -> float:
+    """The largest distance (m) of the vertices ``V`` from the axis through ``centre``."""
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    rel = V - np.asarray(centre, float)
+    return float(np.linalg.norm(rel - np.outer(rel @ a, a), axis=1).max())
 
 
 def _fastest_state(w, base_dir):
     """(surface speed bound (m/s), key of the motion value that sets it) of a moving wall:
     |v| + |omega| x the largest distance of its vertices from the rotation axis, at the
-    start and at every schedule event (None for a wall that does not move)."""
+    start and at every schedule event; an oscillation's peak speed 2 pi f A (a rotation:
+    2 pi f theta r_max), a servo's ``max_speed`` (None for a wall that does not move, and
+    for a free wall, whose speed the particles decide)."""
     mo = w.motion
     if mo is None or not mo.moves:
         return None
@@ -210,6 +235,15 @@ def _fastest_state(w, base_dir):
         V = w.surface(base_dir=base_dir)[0] if w.kind not in ("plane", "box") else None
     except (GsiInputError, AttributeError, ValueError):
         V = None
+    if mo.kind == "oscillation":      # peak speed 2 pi f A (a rotation: times the reach)
+        peak = 2.0 * math.pi * mo.frequency * mo.amplitude
+        if mo.axis is not None:
+            if V is None:
+                return None
+            peak *= _reach(V, mo.axis, mo.centre)
+        return peak, "motion.amplitude"
+    if mo.kind == "servo":
+        return float(mo.max_speed), "motion.max_speed"
     events = list(enumerate(getattr(mo, "events", None) or []))
     best = (0.0, None)
     for k, e in [(None, None)] + events:
@@ -217,10 +251,7 @@ def _fastest_state(w, base_dir):
         v, omega, c = mo.state_at(t, axis=axis, centre=centre)
         speed = float(np.linalg.norm(v))
         if np.any(omega) and V is not None and c is not None:
-            a = omega / np.linalg.norm(omega)
-            rel = V - np.asarray(c, float)
-            reach = float(np.linalg.norm(rel - np.outer(rel @ a, a), axis=1).max())
-            speed += float(np.linalg.norm(omega)) * reach
+            speed += float(np.linalg.norm(omega)) * _reach(V, omega, c)
         src = mo if e is None else e
         name = ("rpm" if getattr(src, "rpm", None) is not None else
                 "omega" if getattr(src, "omega", None) is not None else "velocity")

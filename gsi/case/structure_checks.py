@@ -88,22 +88,15 @@ def possible_centres(p, r: float) -> np.ndarray:
 
 
 def _check_particles(case, k: int, st, fp) -> None:
-    from gsi.case.sources import MAX_OVERLAP, read_particle_file
+    from gsi.case.case_checks import placed_particles
+    from gsi.case.sources import MAX_OVERLAP
     for i, p in enumerate(case.particles):
-        if p.fill == "file":
-            data = read_particle_file(case.base_dir / p.file, key=f"particles[{i}].file",
-                                      shown=p.file)
-            x, r = data["x"], data["radius"]
-            key, what = f"particles[{i}].file = '{p.file}'", "row"
-        elif p.fill == "lattice":
-            x = p.lattice_sites(f"particles[{i}]")
-            r = np.full(len(x), p.size.largest)
-            key, what = f"particles[{i}].region", "lattice site"
-        else:
+        placed = placed_particles(case, i, p, "largest")
+        if placed is None:
             r0 = case.source_smallest_radius(i)
             x = possible_centres(p, r0)
-            r = np.full(len(x), r0)
-            key, what = f"particles[{i}].region", "possible centre"
+            placed = x, np.full(len(x), r0), f"particles[{i}].region", "possible centre"
+        x, r, key, what = placed
         near = ((x >= fp.lo - r[:, None]) & (x <= fp.hi + r[:, None])).all(1)
         if not near.any():
             continue

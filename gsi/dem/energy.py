@@ -25,12 +25,16 @@ dissipate leaves the book: the drift is then that energy.  With it on
 - time integration: velocity Verlet conserves a shadow energy, so the mechanical
   energy fluctuates by O(dt^2) around it (the elastic energy of a contact is read at
   x_n, the kinetic at the full-step velocity v_n); the frictional heat is booked to
-  second order (:func:`gsi.dem.integrate.integrate_rows`).  Both fall as dt^2;
-- the incremental tangential spring: with Hertz, k_t = 8 G* sqrt(R* delta) changes with
-  the overlap while the spring xi stays, so 1/2 k_t |xi|^2 changes without work (the
-  spring is not a potential; LIGGGHTS, Yade and Kratos share this); the rotation of
-  the spring into the new tangent plane keeps its length.  This part does not fall with
-  dt; :func:`contact_elastic_energy` reports it as it is;
+  second order (:func:`gsi.dem.integrate.integrate_rows`).  Both fall with dt, as dt^2
+  where the forces are smooth (a force jump, a contact's first damped step or the
+  rolling torque's stop, is first order);
+- the incremental tangential spring is not a potential (with Hertz, k_t = 8 G* sqrt(R*
+  delta) changes with the overlap while the spring xi stays; the spring is rotated into
+  the new tangent plane and truncated at the Coulomb cap; a contact can end with a
+  loaded spring): frictional heating books each of these energy changes as heat, per
+  contact and step, and a spring's energy at its contact's end
+  (:mod:`gsi.dem.contact.dissipation`, :mod:`gsi.dem.spring_heat`), so they leave no
+  drift -- except a mesh-triangle contact's spring at its end, which leaves the book;
 - particles that leave the domain take their energy with them (not booked).
 
 Energies are in J; :func:`energy_parts` returns them as a dict.

@@ -38,13 +38,14 @@ import numpy as np
 from gsi.jit import njit, pjit, prange, uint
 from gsi.dem.contact.lanes import CH, NB, A2, RI, RJ, DTEMP, Q, MX
 from gsi.dem.contact.model import (evaluate_heat, model_ids, M_HEAT, M_LOG, M_ROLLING,
-                                   M_FRICTION, NORMAL, ROLLING, HEAT)
+                                   M_FRICTION, M_NORMAL, NORMAL, ROLLING, HEAT)
 from gsi.dem.contact_geometry import spheres_touch, wall_radius2, plane_distance
 from gsi.dem.fast_call import FastCall
 from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample, empty_log_state
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
                                friction_correction, reduce_scans, verdict)
 from gsi.dem.pair_lanes import gather_pairs, finish_pairs, friction_pairs
+from gsi.dem.spring_heat import book_ended_springs
 from gsi.dem.wall_lanes import gather_walls, finish_walls, friction_walls, plane_count
 from gsi.dem.state import (Particles, Pairs, Planes, Mesh, WallContacts, as_tuple,
                            MAX_WALL_SLOTS)
@@ -90,6 +91,8 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     # frictional heat also heats the particles (T += dt Q/(m c_p))
     fric_on = model[M_FRICTION] != 0
     heat_on = model[M_HEAT] != 0 or fric_on
+    if fric_on and dt > 0.0:    # springs of ended contacts into heat
+        book_ended_springs(sl, P, pairs, pl, wc, plh, tab, nt, dt, model[M_NORMAL], pl_acc)
     roll_on = model[M_ROLLING] != 0
     # pair batch: lanes, lane -> pair row, partner, table row; batch rows and their lanes
     B = lane_buffer()

@@ -13,8 +13,9 @@ placed with their whole sphere inside the region.
 - :class:`Inserter` (``sim.add_inserter``) -- inserts ``rate`` particles/s at random
   spots of a region with an initial velocity, skipping spots that overlap existing
   or just-inserted particles (after 20 tries per particle; skipped ones are counted in
-  ``n_skipped`` and not retried), up to ``max_count``.  The simulation calls it at the
-  steps when particles are due; ``ids`` lists the ids it inserted.
+  ``n_skipped`` and not retried), up to ``max_count``.  At the steps when particles are
+  due the simulation asks it for spots (``place``) and adds the particles;
+  ``ids`` lists the ids it inserted.
 """
 import math
 
@@ -236,15 +237,21 @@ def random_fill(region, radius, *, count=None, volume_fraction=None, rng=None,
 class Inserter:
     """Continuous insertion into a region at ``rate`` particles/s (see module docstring).
 
+    The inserter decides where particles go; it holds no simulation.  The simulation
+    asks it at each due step (:func:`gsi.dem.step_loop.run_inserters`): :meth:`place`
+    gets the time, the random generator and the particles already there, and returns
+    the spots; the simulation adds the particles and hands their ids back through
+    :meth:`inserted`.
+
     Parameters
     ----------
-    sim : Simulation
     region : Box, Cylinder or Sphere
     rate : float
         Particles per second (> 0).
     radius : float or distribution
         Radii (m).
     material : str
+        The particles' material (checked by the simulation that adds them).
     velocity : (3,) float
         Initial velocity (m/s).
     max_count : int, optional
@@ -255,16 +262,13 @@ class Inserter:
         Time (s) from which insertion runs.
     """
 
-    def __init__(self, sim, region, rate, *, radius, material, velocity=(0.0, 0.0, 0.0),
+    def __init__(self, region, rate, *, radius, material, velocity=(0.0, 0.0, 0.0),
                  max_count=None, T=None, start=0.0):
         if not rate > 0:
             raise GsiInputError(f"inserter.rate = {rate}: must be > 0 (particles/s)")
         if max_count is not None and max_count < 0:
             raise GsiInputError(f"inserter.max_count = {max_count}: must be >= 0")
-        if material not in sim.material_names:
-            raise GsiInputError(f"inserter.material = {material!r}: unknown material, known: "
-                                f"{sim.material_names}")
-        self.sim, self.region, self.rate = sim, region, float(rate)
+        self.region, self.rate = region, float(rate)
         self.dist = as_distribution(radius, key="inserter.radius")
         self.material = material
         self.velocity = np.asarray(velocity, float)
@@ -281,31 +285,35 @@ class Inserter:
         """Ids of the particles this inserter added (int64 array, in insertion order)."""
         return np.concatenate(self._ids) if self._ids else np.zeros(0, np.int64)
 
-    def _due(self):
-        due = int(math.floor(self.rate * (self.sim.time - self.start) + 1e-9))
+    def _due(self, time):
+        due = int(math.floor(self.rate * (time - self.start) + 1e-9))
         if self.max_count is not None:
             due = min(due, self.max_count)
         return due
 
-    def steps_to_next(self):
-        """Steps until the next particle is due (>= 1; large when finished)."""
+    def steps_to_next(self, time, dt):
+        """Steps of ``dt`` (s) from ``time`` (s) until the next particle is due (>= 1;
+        large when finished)."""
         if self.max_count is not None and self.n_attempted >= self.max_count:
             return 1 << 40
         t_next = self.start + (self.n_attempted + 1) / self.rate
-        return max(1, int(math.ceil((t_next - self.sim.time) / self.sim.dt - 1e-9)))
+        return max(1, int(math.ceil((t_next - time) / dt - 1e-9)))
 
-    def maybe_insert(self):
-        """Insert the particles due by now; returns how many were inserted."""
-        k = self._due() - self.n_attempted
+    def place(self, time, rng, x, radius):
+        """Spots for the particles due by ``time`` (s): radii drawn and positions
+        sampled with ``rng``, each clear of the particles at ``x`` (n, 3) with radii
+        ``radius`` (n,) and of those placed before it (20 tries each; a particle without
+        a spot is skipped and counted).  Returns (positions (k, 3), radii (k,)), possibly
+        empty; the caller adds them and reports their ids to :meth:`inserted`."""
+        k = self._due(time) - self.n_attempted
         if k <= 0:
-            return 0
-        sim = self.sim
-        rng = sim.rng
+            return np.zeros((0, 3)), np.zeros(0)
         r = self.dist.sample(rng, k)
         lo, hi = self.region.bounds()
-        reach = 2 * max(self.dist.r_max, float(sim.radius.max()) if sim.n else 0.0)
-        near = ((sim.x > lo - reach) & (sim.x < hi + reach)).all(1) if sim.n else np.zeros(0, bool)
-        ex, er = sim.x[near].copy(), sim.radius[near].copy()
+        n = len(radius)
+        reach = 2 * max(self.dist.r_max, float(radius.max()) if n else 0.0)
+        near = ((x > lo - reach) & (x < hi + reach)).all(1) if n else np.zeros(0, bool)
+        ex, er = x[near].copy(), radius[near].copy()
         placed_x, placed_r = [], []
         for rk in r:
             for _ in range(20):
@@ -319,11 +327,14 @@ class Inserter:
             else:
                 self.n_skipped += 1
         self.n_attempted += k
-        if placed_x:
-            self._ids.append(sim.add_particles(np.array(placed_x), np.array(placed_r),
-                                               material=self.material, v=self.velocity, T=self.T))
-        self.n_inserted += len(placed_x)
-        return len(placed_x)
+        return np.array(placed_x).reshape(-1, 3), np.array(placed_r)
+
+    def inserted(self, ids):
+        """Book the ids (int64) of the particles the simulation added from :meth:`place`."""
+        ids = np.asarray(ids, np.int64)
+        if len(ids):
+            self._ids.append(ids)
+        self.n_inserted += len(ids)
 
     # ------------------------------------------------------------------ checkpoints
     def state(self):

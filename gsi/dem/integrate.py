@@ -132,7 +132,8 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
     :func:`scan_one`, bitwise, written out so that a particle's values stay in registers
     and a fixed particle or one outside the domain is a select, not a branch (the
     settled ``settle`` bed's force pass with integration 2.70 -> 2.60 ms, median of 9
-    interleaved batches, ``MODE=2 benchmarks/engine_ab.py``, one thread, 2026-12-03).
+    interleaved batches, ``MODE=2 benchmarks/engine_ab.py`` -- removed in 0b42e1f --, one
+    thread, 2026-12-03).
     """
     dmax = 0.0
     nout = 0

@@ -90,7 +90,7 @@ from gsi.dem.radiation_kernels import (SIGMA, CellGrid, Emitters, RateArrays, Su
                                       Views, exchange, scatter_wall_heat, view_sums)
 from gsi.errors import GsiInputError
 
-__all__ = ["Radiation", "Rates", "SIGMA", "CUTOFF_DEFAULT"]
+__all__ = ["Radiation", "Rates", "SIGMA", "CUTOFF_DEFAULT", "emissivity_by_type"]
 
 #: default radiation cut-off c: neighbours closer than c (R_i + R_j) between centres
 CUTOFF_DEFAULT = 1.5
@@ -111,19 +111,44 @@ Rates = namedtuple("Rates", [
 """The radiation rates at one state (:meth:`Radiation.rates`)."""
 
 
+def emissivity_by_type(emissivity: dict, material_names) -> np.ndarray:
+    """Emissivities by material type index (-) from a dict by material name (materials not
+    named: 0); a one-line GsiInputError names a wrong material or value."""
+    names = list(material_names)
+    eps = np.zeros(len(names))
+    for name, e in dict(emissivity).items():
+        if name not in names:
+            raise GsiInputError(f"materials.{name}.emissivity: {name!r} is not a material; "
+                                f"known: {names}")
+        if not (isinstance(e, (int, float)) and 0.0 <= e <= 1.0):
+            raise GsiInputError(f"materials.{name}.emissivity = {e!r}: must be in [0, 1] (-)")
+        eps[names.index(name)] = float(e)
+    return eps
+
+
 class Radiation:
     """Radiation of a simulation's particles (module docstring); made by
     :meth:`gsi.dem.Simulation.set_radiation`.
 
+    The model holds the data it works on, not the simulation: the particle store, the
+    wall registry and the domain box; the step count, dt and whether the time-step
+    checks are waived reach it as arguments of :meth:`step_due`.
+
     Parameters
     ----------
-    sim : gsi.dem.Simulation
-    emissivity : dict of str -> float
-        Emissivity (-, in [0, 1]) by material name; materials not named have 0 (their
-        particles occupy view but neither emit nor absorb; their walls do not radiate).
-    cutoff : float, default CUTOFF_DEFAULT
-        Radiation cut-off c (-, >= 1): particles closer than c (R_i + R_j) between
-        centres, walls closer than c R_i, are neighbours.
+    store : gsi.dem.storage.ParticleStore
+        The particles (positions, radii, types, temperatures, 1/(m c_p)).
+    walls : gsi.dem.wall_registry.Walls
+        The planes and mesh walls (their states and handles).
+    domain : (lo, hi)
+        The simulation box (m): the cell grid of the neighbour search spans it.
+    eps_type : (n_types,) float
+        Emissivity (-, in [0, 1]) by material type index (:func:`emissivity_by_type`);
+        materials with 0 occupy view but neither emit nor absorb; their walls do not
+        radiate.
+    cutoff : float, optional
+        Radiation cut-off c (-, >= 1; default :data:`CUTOFF_DEFAULT`): particles closer
+        than c (R_i + R_j) between centres, walls closer than c R_i, are neighbours.
     every : int, default 1
         DEM steps per evaluation; the exchange is applied over every x dt.
     T_enclosure : float, optional
@@ -141,8 +166,9 @@ class Radiation:
         Evaluations so far.
     """
 
-    def __init__(self, sim, *, emissivity: dict, cutoff: float = CUTOFF_DEFAULT,
+    def __init__(self, store, walls, *, domain, eps_type, cutoff: float | None = None,
                  every: int = 1, T_enclosure: float | None = None):
+        cutoff = CUTOFF_DEFAULT if cutoff is None else cutoff
         if not (isinstance(cutoff, (int, float)) and math.isfinite(cutoff) and cutoff >= 1.0):
             raise GsiInputError(f"dem.radiation_cutoff = {cutoff!r}: must be >= 1 (a multiple "
                                 "of R_i + R_j; 1 reaches touching particles only)")
@@ -150,16 +176,9 @@ class Radiation:
             raise GsiInputError(f"dem.radiation_every = {every!r}: must be an integer >= 1")
         if T_enclosure is not None and not (math.isfinite(T_enclosure) and T_enclosure >= 0):
             raise GsiInputError(f"dem.radiation_T_enclosure = {T_enclosure!r}: must be >= 0 (K)")
-        eps = np.zeros(len(sim.material_names))
-        for name, e in dict(emissivity).items():
-            if name not in sim.material_names:
-                raise GsiInputError(f"materials.{name}.emissivity: {name!r} is not a material; "
-                                    f"known: {sim.material_names}")
-            if not (isinstance(e, (int, float)) and 0.0 <= e <= 1.0):
-                raise GsiInputError(f"materials.{name}.emissivity = {e!r}: must be in [0, 1] (-)")
-            eps[sim.material_index(name)] = float(e)
-        self.sim = sim
-        self.eps_type = eps
+        self.store, self.walls = store, walls
+        self.lo, self.hi = (np.asarray(b, float) for b in domain)
+        self.eps_type = np.asarray(eps_type, float)
         self.cutoff = float(cutoff)
         self.every = int(every)
         self.T_enclosure = None if T_enclosure is None else float(T_enclosure)
@@ -170,23 +189,22 @@ class Radiation:
         self._done_at = -1
 
     # ------------------------------------------------------------------ stepping hook
-    def step_due(self) -> int:
-        """Called by the step loop before each compiled chunk: apply the exchange over
-        the next ``every`` steps when the step count is a multiple of ``every`` (once
-        per step count), and return how many steps the chunk may run before the next
-        evaluation."""
-        sim = self.sim
-        k = sim.step_count
+    def step_due(self, step_count: int, dt: float, *, force_dt: bool = False) -> int:
+        """Called by the step loop before each compiled chunk at step ``step_count`` of
+        length ``dt`` (s): apply the exchange over the next ``every`` steps when the step
+        count is a multiple of ``every`` (once per step count), and return how many steps
+        the chunk may run before the next evaluation.  ``force_dt`` waives the stability
+        refusal (``dem.force_dt``)."""
+        k = int(step_count)
         if k % self.every == 0 and self._done_at != k:
             self._done_at = k
-            if sim.n:
-                self.apply(self.every * sim.dt)
+            if self.store.n:
+                self.apply(self.every * dt, step_count=k, force_dt=force_dt)
         return self.every - k % self.every
 
     # ------------------------------------------------------------------ evaluation
     def _walls(self):
-        sim = self.sim
-        pl, M = sim.plane_state, sim.mesh_state
+        pl, M = self.walls.plane_state, self.walls.mesh_state
         pl_eps = self.eps_type[pl.type] if len(pl.type) else np.zeros(0)
         pl_rad = (pl.has_T.astype(bool) & (pl_eps > 0)).astype(np.uint8)
         wall_eps = self.eps_type[M.wall_type] if len(M.wall_type) else np.zeros(0)
@@ -199,15 +217,15 @@ class Radiation:
                                              np.zeros(len(wall_eps) - len(self.wall_heat))])
         return pl, M, pl_eps, pl_rad, wall_eps, wall_rad
 
-    def stability(self) -> float:
-        """max_i dt_rad 4 eps_i sigma T_max^3 A_i/(m_i c_p,i) (-), dt_rad = every x dt,
-        T_max the highest particle, radiating wall or enclosure temperature (K): the
+    def stability(self, dt: float) -> float:
+        """max_i dt_rad 4 eps_i sigma T_max^3 A_i/(m_i c_p,i) (-), dt_rad = every x ``dt``
+        (s), T_max the highest particle, radiating wall or enclosure temperature (K): the
         explicit update is stable below 1 (module docstring)."""
-        sim = self.sim
-        if sim.n == 0:
+        P = self.store.particles()
+        if self.store.n == 0:
             return 0.0
         pl, M, pl_eps, pl_rad, wall_eps, wall_rad = self._walls()
-        T_max = float(sim.T.max())
+        T_max = float(P.T.max())
         if pl_rad.any():
             T_max = max(T_max, float(pl.T[pl_rad.astype(bool)].max()))
         if wall_rad.any():
@@ -216,49 +234,49 @@ class Radiation:
                 T_max = max(T_max, float(M.T[hot].max()))
         if self.T_enclosure is not None:
             T_max = max(T_max, self.T_enclosure)
-        r = sim.radius
-        c = self.eps_type[sim.type] * 4.0 * math.pi * r * r * sim.particles.mcp_inv
-        return float(self.every * sim.dt * 4.0 * SIGMA * T_max ** 3 * c.max())
+        r = P.radius
+        c = self.eps_type[P.type] * 4.0 * math.pi * r * r * P.mcp_inv
+        return float(self.every * dt * 4.0 * SIGMA * T_max ** 3 * c.max())
 
-    def _check(self):
-        sim = self.sim
-        T_min = float(sim.T.min())
+    def _check(self, dt, step_count, force_dt):
+        T_min = float(self.store.particles().T.min())
         if T_min < 0.0:
             raise GsiInputError(f"dem.radiation: particle temperature {T_min:g} < 0; radiation "
                                 "needs absolute temperatures (K)")
-        ratio = self.stability()
-        if ratio > 1.0 and not sim.force_dt:
+        ratio = self.stability(dt)
+        if ratio > 1.0 and not force_dt:
             limit = max(1, int(self.every / ratio))
             raise GsiInputError(
                 f"dem.radiation_every = {self.every}: the explicit radiation update is unstable "
                 f"(radiation_every x dt x 4 eps sigma T^3 A/(m c_p) = {ratio:.3g} > 1 at step "
-                f"{sim.step_count}); use dem.radiation_every <= {limit} or a smaller run.dt")
+                f"{step_count}); use dem.radiation_every <= {limit} or a smaller run.dt")
 
     def rates(self, *, record: bool = False) -> Rates:
         """The heat rates at the current state, without applying them (:class:`Rates`;
         ``record``: also the dense (n, n) pair matrices, for small systems)."""
-        sim = self.sim
-        n = sim.n
+        P = self.store.particles()
+        n = self.store.n
+        lo = self.lo
         pl, M, pl_eps, pl_rad, wall_eps, wall_rad = self._walls()
-        x, r = sim.x, sim.radius
+        x, r = P.x, P.radius
         area = 4.0 * math.pi * r * r
-        eps = self.eps_type[sim.type]
-        T = sim.T
+        eps = self.eps_type[P.type]
+        T = P.T
         T4 = T * T * T * T
         rmax = float(r.max()) if n else 0.0
-        dims, inv_cs = cells.grid_for(sim.lo, sim.hi, 2.0 * self.cutoff * rmax, n)
+        dims, inv_cs = cells.grid_for(lo, self.hi, 2.0 * self.cutoff * rmax, n)
         cell_of = np.empty(n, np.int64)
-        cells.cell_index(n, x, sim.lo, inv_cs, dims, cell_of)
+        cells.cell_index(n, x, lo, inv_cs, dims, cell_of)
         cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
         nw = len(wall_eps)
         if wall_rad.any():
-            tcell_start, tcell_list = nbr.bin_triangles(M.x, M.tri, sim.lo, inv_cs, dims,
+            tcell_start, tcell_list = nbr.bin_triangles(M.x, M.tri, lo, inv_cs, dims,
                                                         self.cutoff * rmax)
         else:
             tcell_start = np.zeros(int(dims.prod()) + 1, np.int64)
             tcell_list = np.zeros(0, np.int32)
         E = Emitters(x, r, area, eps, T4)
-        G = CellGrid(self.cutoff, sim.lo, inv_cs, dims, cell_start, cell_list, tcell_start,
+        G = CellGrid(self.cutoff, lo, inv_cs, dims, cell_start, cell_list, tcell_start,
                      tcell_list)
         has_enc = self.T_enclosure is not None
         S = Surfaces(pl.point, pl.normal, pl_rad, pl_eps, pl.T ** 4, M.x, M.tri, M.T,
@@ -276,21 +294,22 @@ class Radiation:
         return Rates(Q, Q_plane, Q_wall, Q_enc, area_sum, wall_tri, wall_w,
                      S_mat if record else None, Q_mat if record else None)
 
-    def apply(self, dt_rad: float) -> None:
+    def apply(self, dt_rad: float, *, step_count: int = 0, force_dt: bool = False) -> None:
         """Evaluate at the current temperatures and apply over ``dt_rad`` (s): particle
         temperatures, the walls' accumulators (``plane_state.heat``, ``mesh_state``
-        ``vertex_heat`` and ``wall_heat``) and this model's own totals."""
-        sim = self.sim
-        self._check()
+        ``vertex_heat`` and ``wall_heat``) and this model's own totals.  Refuses an
+        unstable ``dt_rad`` unless ``force_dt``; ``step_count`` names the step in the
+        message."""
+        self._check(dt_rad / self.every, step_count, force_dt)
         R = self.rates()
-        P = sim.particles
+        P = self.store.particles()
         P.T[:] += dt_rad * R.Q * P.mcp_inv
         if R.Q_plane.shape[1]:
             qp = R.Q_plane.sum(0) * dt_rad
-            sim.plane_state.heat[:] += qp
+            self.walls.plane_state.heat[:] += qp
             self.plane_heat += qp
         if R.Q_wall.shape[1]:
-            M = sim.mesh_state
+            M = self.walls.mesh_state
             scatter_wall_heat(dt_rad, Views(R.area_sum, R.wall_tri, R.wall_w), R.Q_wall, M,
                               self.wall_heat)
         self.enclosure_heat += float(R.Q_enclosure.sum()) * dt_rad
@@ -299,11 +318,10 @@ class Radiation:
     def heat_from(self, wall) -> float:
         """Heat radiated from ``wall`` (a PlaneWall or MeshWall of this simulation) into
         the particles since the start (J)."""
-        sim = self.sim
-        if wall in sim.planes:
-            k, acc = sim.planes.index(wall), self.plane_heat
-        elif wall in sim.mesh_walls:
-            k, acc = sim.mesh_walls.index(wall), self.wall_heat
+        if wall in self.walls.planes:
+            k, acc = self.walls.planes.index(wall), self.plane_heat
+        elif wall in self.walls.mesh_walls:
+            k, acc = self.walls.mesh_walls.index(wall), self.wall_heat
         else:
             raise GsiInputError("radiation.heat_from: not a wall of this simulation")
         return float(acc[k]) if k < len(acc) else 0.0

@@ -57,8 +57,10 @@ from gsi.dem.material_set import MaterialSet
 from gsi.dem.engine import get_engine
 from gsi.dem import checks, step_loop
 from gsi.dem.checkpoint_state import capture, restore
+from gsi.dem.insertion import Inserter
 from gsi.dem.lists import adaptive_skin, build_lists
 from gsi.dem.log_control import ContactLogControl
+from gsi.dem.radiation import Radiation, emissivity_by_type
 from gsi.dem.state import FRICTION_FIELDS, empty_pairs
 from gsi.dem.step_codes import StepFlags
 from gsi.dem.storage import ParticleStore, ParticleViews
@@ -273,20 +275,19 @@ class Simulation(ParticleViews, WallViews):
     def add_inserter(self, region, rate, *, radius, material, velocity=(0.0, 0.0, 0.0),
                      max_count=None, T=None, start=None):
         """Continuous insertion (see :class:`gsi.dem.insertion.Inserter`)."""
-        from gsi.dem.insertion import Inserter
-        ins = Inserter(self, region, rate, radius=radius, material=material, velocity=velocity,
-                       max_count=max_count, T=T, start=self.time if start is None else start)
-        self.inserters.append(ins)
-        return ins
+        self.material_index(material, "inserter.material")
+        self.inserters.append(Inserter(region, rate, radius=radius, material=material,
+                                       velocity=velocity, max_count=max_count, T=T,
+                                       start=self.time if start is None else start))
+        return self.inserters[-1]
 
     def set_radiation(self, emissivity, *, cutoff=None, every=1, T_enclosure=None):
         """Turn on particle radiation (:class:`gsi.dem.radiation.Radiation`: emissivity by
         material name, cut-off c (-, default 1.5), an evaluation every ``every`` steps,
         an optional enclosure temperature T_enclosure (K)). Returns the model."""
-        from gsi.dem.radiation import CUTOFF_DEFAULT, Radiation
-        self.radiation = Radiation(self, emissivity=emissivity, every=every,
-                                   cutoff=CUTOFF_DEFAULT if cutoff is None else cutoff,
-                                   T_enclosure=T_enclosure)
+        self.radiation = Radiation(self.store, self.walls, domain=(self.lo, self.hi),
+                                   eps_type=emissivity_by_type(emissivity, self.material_names),
+                                   cutoff=cutoff, every=every, T_enclosure=T_enclosure)
         return self.radiation
 
     # ------------------------------------------------------------------ checks

@@ -26,6 +26,7 @@ from gsi.dem import checks
 from gsi.dem import contact_log as clog
 from gsi.dem.state import MAX_WALL_SLOTS
 from gsi.dem.step_codes import StepCode, blow_up, lost_particles
+from gsi.dem.wall_drivers import bed_of
 
 
 def run(sim, n):
@@ -43,15 +44,27 @@ def run(sim, n):
         numba.set_num_threads(threads)
 
 
+def run_inserters(sim):
+    """Add the particles every inserter of ``sim`` has due by now (the inserter places,
+    the simulation adds; :class:`gsi.dem.insertion.Inserter`); returns how many."""
+    added = 0
+    for ins in sim.inserters:
+        x, r = ins.place(sim.time, sim.rng, sim.x, sim.radius)
+        ids = (sim.add_particles(x, r, material=ins.material, v=ins.velocity, T=ins.T)
+               if len(r) else ())
+        ins.inserted(ids)
+        added += len(ids)
+    return added
+
+
 def _chunks(sim, remaining):
     vmax2 = sim.v_max ** 2
     skip = False
     while remaining > 0:
         if not skip:
-            for ins in sim.inserters:
-                ins.maybe_insert()
+            run_inserters(sim)
         if sim.n == 0 and not skip:
-            chunk = min([remaining] + [ins.steps_to_next() for ins in sim.inserters])
+            chunk = min([remaining] + [i.steps_to_next(sim.time, sim.dt) for i in sim.inserters])
             sim.advance_idle(chunk)
             remaining -= chunk
             continue
@@ -60,12 +73,14 @@ def _chunks(sim, remaining):
             check_heat(sim)
         else:
             prepare(sim)
-        chunk = min([remaining] + [ins.steps_to_next() for ins in sim.inserters])
+        chunk = min([remaining] + [i.steps_to_next(sim.time, sim.dt) for i in sim.inserters])
         if sim.radiation is not None:     # applied at T_n over its interval
-            chunk = min(chunk, sim.radiation.step_due())
+            chunk = min(chunk, sim.radiation.step_due(sim.step_count, sim.dt,
+                                                      force_dt=sim.force_dt))
         if sim.drivers:                   # walls that respond: up to their next update
-            chunk = min(chunk, sim.drivers.steps_due(sim.step_count) if skip
-                        else sim.drivers.drive(sim))    # (a resumed step has moved its walls)
+            due = (sim.drivers.steps_due(sim.step_count) if skip   # (a resumed step has
+                   else sim.drivers.drive(sim.step_count, sim.time, sim.dt, bed_of(sim)))
+            chunk = min(chunk, due)                                  # moved its walls)
         sim.log.state.ctrl[clog.C_STEP] = sim.step_count
         half_skin2 = (0.5 * sim.list_skin) ** 2
         done, code, info = sim.engine.advance(chunk, skip, sim.dt, sim.g, half_skin2, vmax2,

@@ -57,6 +57,8 @@ Notes
 """
 import math
 
+from collections import namedtuple
+
 import numpy as np
 
 from gsi.dem.materials import P_E, P_KN
@@ -91,14 +93,14 @@ class WallDrivers:
         self.items.append(driver)
         return driver
 
-    def drive(self, sim):
-        """Set the velocity of every driven wall due for an update (``sim.step_count`` has
-        reached its next update) for its next ``every`` steps; return the steps until the
-        next update of any driver (the step loop's chunk)."""
-        now = sim.step_count
+    def drive(self, now, time, dt, bed):
+        """Set the velocity of every driven wall due for an update (step ``now``, at
+        ``time`` (s), has reached its next update) for its next ``every`` steps of ``dt``
+        (s); ``bed`` (:class:`Bed`) is what a servo's gain rule reads of the particles.
+        Returns the steps until the next update of any driver (the step loop's chunk)."""
         for d in self.items:
             if now >= d.next_step:
-                d.drive(sim)
+                d.drive(time, dt, bed)
                 d.next_step = now + d.every
         return self.steps_due(now)
 
@@ -232,8 +234,8 @@ class Oscillation(_Axial):
         """Gamma = A w^2/|g| (-), the peak acceleration in units of gravity."""
         return self.A * self.w ** 2 / float(np.linalg.norm(g))
 
-    def drive(self, sim):
-        t, h = sim.time, self.every * sim.dt
+    def drive(self, t, dt, bed):
+        h = self.every * dt
         self._set((self.s(t + h) - self.s(t)) / h, h)
 
 
@@ -249,16 +251,28 @@ def stiffness_estimate(*, E_eff, r, force, area, k_linear=None):
     return n_c * (6.0 * E_eff ** 2 * r * abs(force) / n_c) ** (1.0 / 3.0)
 
 
-def wall_stiffness(sim, wall, force, area):
-    """:func:`stiffness_estimate` for ``wall`` of ``sim`` and its particles now (0 without
-    particles)."""
-    if sim.n == 0:
+Bed = namedtuple("Bed", ["store", "materials", "linear"])
+"""What a servo's stability rule reads of the particles: the particle store
+(:class:`gsi.dem.storage.ParticleStore`), the :class:`gsi.dem.material_set.MaterialSet`
+(names and pair table) and whether the contact law is linear."""
+
+
+def bed_of(sim) -> Bed:
+    """The :class:`Bed` of a simulation (the step loop passes it to the drivers)."""
+    return Bed(sim.store, sim.material_set, sim.contact == "linear")
+
+
+def wall_stiffness(bed, wall, force, area):
+    """:func:`stiffness_estimate` for ``wall`` and the particles of ``bed`` (:class:`Bed`)
+    now (0 without particles)."""
+    if bed.store.n == 0:
         return 0.0
-    wt = sim.material_index(wall.material)
-    types = np.unique(sim.type)
-    k_lin = float(sim.table[types, wt, P_KN].max()) if sim.contact == "linear" else None
-    return stiffness_estimate(E_eff=float(sim.table[types, wt, P_E].max()),
-                              r=float(sim.radius.min()), force=force, area=area,
+    P, table = bed.store.particles(), bed.materials.table
+    wt = bed.materials.index(wall.material)
+    types = np.unique(P.type)
+    k_lin = float(table[types, wt, P_KN].max()) if bed.linear else None
+    return stiffness_estimate(E_eff=float(table[types, wt, P_E].max()),
+                              r=float(P.radius.min()), force=force, area=area,
                               k_linear=k_lin)
 
 
@@ -340,12 +354,13 @@ class Servo(_Axial):
         """N = -F . d: the particles' push on the wall (N) at the last step."""
         return -self.load
 
-    def set_gain(self, sim):
-        """The gain G (m/(s N)) from the stability rule (class docstring)."""
-        K = wall_stiffness(sim, self.walls[0], self.peak_force, self.area)
+    def set_gain(self, dt, bed):
+        """The gain G (m/(s N)) from the stability rule (class docstring) at steps of
+        ``dt`` (s) for the particles of ``bed`` (:class:`Bed`); None without particles."""
+        K = wall_stiffness(bed, self.walls[0], self.peak_force, self.area)
         if K == 0.0:
             return None
-        limit = 1.0 / (K * self.every * sim.dt)
+        limit = 1.0 / (K * self.every * dt)
         if self.user_gain is not None and self.user_gain > limit:
             raise GsiInputError(f"{self.key}.gain = {self.user_gain:g}: above the stability limit "
                                 f"1/(K k dt) = {limit:.3g} m/(s N) (K = {K:.3g} N/m, the wall "
@@ -354,15 +369,15 @@ class Servo(_Axial):
         self.stiffness = K
         return self.user_gain if self.user_gain is not None else SERVO_ALPHA * limit
 
-    def drive(self, sim):
+    def drive(self, t, dt, bed):
         if self.gain is None:
-            self.gain = self.set_gain(sim)
+            self.gain = self.set_gain(dt, bed)
             if self.gain is None:
-                self._set(0.0, sim.dt)
+                self._set(0.0, dt)
                 return
-        self._target = self.target_force(sim.time)
+        self._target = self.target_force(t)
         v = self.gain * (self._target - self.normal_force)
-        self._set(min(self.v_max, max(-self.v_max, v)), self.every * sim.dt)
+        self._set(min(self.v_max, max(-self.v_max, v)), self.every * dt)
 
 
 def _steps(k, key):
@@ -453,12 +468,12 @@ class FreeWall(_Axial):
         v = self.v_half + (0.5 * dt * self.acceleration() if self.started else 0.0)
         return self.inertia * v
 
-    def drive(self, sim):
+    def drive(self, t, dt, bed):
         a = self.acceleration()
         if self.started:
-            v = self.v_half + sim.dt * a
+            v = self.v_half + dt * a
         else:
-            v = self.v_half + 0.5 * sim.dt * a
+            v = self.v_half + 0.5 * dt * a
             self.started = True
         self.v_half = v
-        self._set(v, sim.dt)
+        self._set(v, dt)

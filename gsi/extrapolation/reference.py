@@ -30,7 +30,8 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
 
     ``twin`` (m): also run a second DEM from the state at t1 with every position moved by
     a random amount up to ``twin`` in each coordinate, and give eq. 9 between the two
-    DEMs at each t_{n+1} (``dem["twin"]``: ``eps_abs``, ``eps_level``): the error of a
+    DEMs at each t_{n+1} (``dem["twin"]``: ``eps_abs``, ``eps_level``, and the twin's
+    ``T``, ``x`` (periods + 1, N, ...) by log order): the error of a
     prediction as good as the DEM itself, which the flow's chaos alone sets (0 for
     ``twin = 0``: the DEM is deterministic).
 
@@ -112,7 +113,7 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
         T_tw, x_tw = _dem_periods(sim, log.ids, period_steps, periods,
                                   lambda p: say(f"twin DEM: period {p}/{periods}"))
         dem["twin"] = {
-            "amplitude": twin,
+            "amplitude": twin, "T": T_tw, "x": x_tw,
             "eps_abs": np.array([cell_error(seeds, dem["x"][n], dem["T"][n], x_tw[n],
                                             T_tw[n])[0] for n in range(1, periods + 1)]),
             "eps_level": np.array([cell_sampling_level(seeds, dem["x"][n], dem["T"][n],

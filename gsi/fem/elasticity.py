@@ -27,7 +27,8 @@ beta = (1 - alpha_m + alpha_f)^2 / 4).
 
 The effective matrix ``c_M M + c_K K`` (Dirichlet rows/columns eliminated) is assembled
 and factorized once (``solver="direct"``), or its algebraic-multigrid preconditioner
-(GAMG with the rigid-body near-nullspace) is built once (``solver="iterative"``: CG
+(BoomerAMG, systems form; GAMG with the rigid-body near-nullspace with
+``pc_type = "gamg"``) is built once (``solver="iterative"``: CG
 warm-started from u_n); each step builds only the right-hand side
 
     b = f_{n+1-alpha_f} + M w_M + K w_K - A g
@@ -94,7 +95,7 @@ class Elasticity(Problem):
         Stress-free temperature (K or degC, as the temperatures given).
     factorization, solver, petsc_options, rtol, options_key
         The linear solver (:class:`gsi.fem.problem.Problem`; the iterative one here is
-        CG + GAMG with the rigid-body near-nullspace; "auto" goes out of core from
+        CG + BoomerAMG (:data:`gsi.fem.options.ITERATIVE_PC`); "auto" goes out of core from
         ``gsi.fem.options.AUTO_LARGE_DOFS["elasticity"]`` dofs on).
 
     Notes

@@ -10,7 +10,8 @@ import re
 from gsi.errors import GsiInputError
 
 __all__ = ["SOLVERS", "ITERATIVE_RTOL", "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER",
-           "ITERATIVE_DEFAULTS", "OUT_OF_CORE_DEFAULTS", "choose_solver", "petsc_option_strings"]
+           "ITERATIVE_DEFAULTS", "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "choose_solver",
+           "iterative_defaults", "petsc_option_strings"]
 
 #: ``direct``: the factor in memory; ``out_of_core``: a MUMPS Cholesky factor written to
 #: disk (any number of ranks); ``iterative``: CG + algebraic multigrid; ``auto``: by size
@@ -41,7 +42,10 @@ ITERATIVE_ATOL = 1e-16
 #: at 2e5; 12.4 GB for the 2.8e5-dof membrane of benchmarks/coupled_large.py). From there
 #: elasticity keeps a direct solve with the factor on disk (``out_of_core``: MUMPS
 #: Cholesky; 1e6 dofs on 2 ranks in less than 8 GB, see fe_scale.py) and heat takes CG +
-#: BoomerAMG (9-13 iterations at every size).
+#: BoomerAMG (9-13 iterations at every size). Re-measured with CG + BoomerAMG for
+#: elasticity (1 rank, 1e4-2e5 dofs, shell and clamped plate; docs' performance page): the
+#: direct step is still 59-223 times faster and the iterative path is cheaper in total only
+#: for runs shorter than 0.2-3.6 steps, so the threshold stays.
 AUTO_LARGE_DOFS = {"elasticity": 200_000, "heat": 200_000}
 AUTO_LARGE_SOLVER = {"elasticity": "out_of_core", "heat": "iterative"}
 
@@ -55,19 +59,47 @@ OUT_OF_CORE_DEFAULTS = {"ksp_type": "preonly", "pc_type": "cholesky",
                         "pc_factor_mat_solver_type": "mumps", "mat_mumps_icntl_7": "5",
                         "mat_mumps_icntl_22": "1"}
 
-#: gsi's PETSc defaults of the iterative solvers (``petsc_options`` override them)
+_CG = {"ksp_type": "cg", "ksp_converged_use_initial_residual_norm": ""}
+_GAMG = {"pc_type": "gamg", "pc_gamg_coarse_eq_limit": "1000",
+         "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
+         "mg_levels_esteig_ksp_type": "cg"}
+
+#: gsi's PETSc defaults of the iterative solvers, by ``<problem>_<pc_type>``
+#: (``petsc_options`` override them; a user's ``pc_type`` selects the entry of that type).
+#: Elasticity with BoomerAMG is its systems form (the matrix's block size 3 gives hypre
+#: three functions, each coarsened on its own), HMIS coarsening, extended+i
+#: interpolation, at most 4 weights per row, strong threshold 0.5 (benchmarks/
+#: shell_precond.py's ``hypre_sys``); with GAMG, smoothed aggregation with the six
+#: rigid-body modes as near-nullspace and Chebyshev/Jacobi smoothing.
 ITERATIVE_DEFAULTS = {
-    "elasticity": {"ksp_type": "cg", "ksp_converged_use_initial_residual_norm": "",
-                   "pc_type": "gamg", "pc_gamg_coarse_eq_limit": "1000",
-                   "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
-                   "mg_levels_esteig_ksp_type": "cg"},
-    "heat_hypre": {"ksp_type": "cg", "ksp_converged_use_initial_residual_norm": "",
-                   "pc_type": "hypre", "pc_hypre_type": "boomeramg"},
-    "heat_gamg": {"ksp_type": "cg", "ksp_converged_use_initial_residual_norm": "",
-                  "pc_type": "gamg", "pc_gamg_coarse_eq_limit": "1000",
-                  "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
-                  "mg_levels_esteig_ksp_type": "cg"},
+    "elasticity_hypre": {**_CG, "pc_type": "hypre", "pc_hypre_type": "boomeramg",
+                         "pc_hypre_boomeramg_coarsen_type": "HMIS",
+                         "pc_hypre_boomeramg_interp_type": "ext+i",
+                         "pc_hypre_boomeramg_strong_threshold": "0.5",
+                         "pc_hypre_boomeramg_P_max": "4",
+                         "pc_hypre_boomeramg_agg_nl": "0"},
+    "elasticity_gamg": {**_CG, **_GAMG},
+    "heat_hypre": {**_CG, "pc_type": "hypre", "pc_hypre_type": "boomeramg"},
+    "heat_gamg": {**_CG, **_GAMG},
 }
+
+#: The preconditioner of ``solver = "iterative"`` by problem (GAMG where PETSc has no
+#: hypre; ``petsc_options = {pc_type = "gamg"}`` picks GAMG with its defaults above).
+#: Measured (benchmarks/shell_precond.py, fe_scale.py; one generalized-alpha step, CG to
+#: 1e-12): BoomerAMG (systems form) needs 3.5-7 times fewer iterations than GAMG with the
+#: rigid-body modes on both the P2 silo shell and the clamped plate, and its step is
+#: faster on one rank on both (see the docs' performance page for the figures).
+ITERATIVE_PC = {"elasticity": "hypre", "heat": "hypre"}
+
+
+def iterative_defaults(problem: str, pc_type: str | None, *, hypre: bool = True) -> dict[str, str]:
+    """gsi's PETSc defaults of the iterative solver of ``problem`` with the preconditioner
+    ``pc_type`` (None: :data:`ITERATIVE_PC`, GAMG without ``hypre``); a type gsi has no
+    defaults for gets CG and that type only."""
+    if pc_type is None:
+        pc_type = ITERATIVE_PC[problem] if hypre else "gamg"
+    return dict(ITERATIVE_DEFAULTS.get(f"{problem}_{pc_type}", {**_CG, "pc_type": pc_type}))
+
 
 _KEY_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 

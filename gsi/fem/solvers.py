@@ -11,9 +11,11 @@ scheme), so the expensive part of a solver is built once and re-used every step:
   written to disk (:class:`OutOfCoreSolver`): the direct solve of structures whose factor
   does not fit in memory;
 * ``iterative``: conjugate gradients preconditioned by algebraic multigrid, the hierarchy
-  built once (:class:`IterativeSolver`): PETSc's GAMG with the six rigid-body modes as its
-  near-nullspace for elasticity (smoothed aggregation, Vanek, Mandel & Brezina 1996),
-  hypre's BoomerAMG for heat (GAMG where PETSc has no hypre). Every solve starts from the
+  built once (:class:`IterativeSolver`): hypre's BoomerAMG for both problems, in its
+  systems form for elasticity (:data:`gsi.fem.options.ITERATIVE_PC`, measured in
+  benchmarks/shell_precond.py), or with ``petsc_options = {pc_type = "gamg"}`` (and where
+  PETSc has no hypre) PETSc's GAMG, with the six rigid-body modes as its near-nullspace
+  for elasticity (smoothed aggregation, Vanek, Mandel & Brezina 1996). Every solve starts from the
   last solution x_0 (warm start) and stops at ||b - A x|| <= 1e-12 ||b - A x_0||
   (:data:`gsi.fem.options.ITERATIVE_RTOL`);
 * ``auto``: from :data:`gsi.fem.options.AUTO_LARGE_DOFS` global dofs on
@@ -42,8 +44,8 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError, GsiRunError
 
 from . import compat
-from .options import (ITERATIVE_ATOL, ITERATIVE_DEFAULTS, ITERATIVE_RTOL,
-                      OUT_OF_CORE_DEFAULTS, petsc_option_strings)
+from .options import (ITERATIVE_ATOL, ITERATIVE_RTOL, OUT_OF_CORE_DEFAULTS,
+                      iterative_defaults, petsc_option_strings)
 
 
 _prefix_counter = itertools.count()
@@ -389,12 +391,19 @@ class OutOfCoreSolver(LinearSolver):
 class IterativeSolver(LinearSolver):
     """CG + algebraic multigrid, the hierarchy built once, warm-started from ``x``.
 
+    The preconditioner is the user's ``pc_type`` if given, else
+    :data:`gsi.fem.options.ITERATIVE_PC` of the problem (GAMG where PETSc has no hypre),
+    with gsi's defaults of that type (:func:`gsi.fem.options.iterative_defaults`).
+
     Parameters
     ----------
     A, comm, problem, petsc_options, options_key
         As :class:`LinearSolver`.
-    near_nullspace : PETSc.NullSpace, optional
-        Near-nullspace of A for GAMG (elasticity: :func:`rigid_body_modes`).
+    near_nullspace : PETSc.NullSpace or callable, optional
+        Near-nullspace of A (elasticity: :func:`rigid_body_modes`), or a function making
+        it; attached to A for GAMG, and for BoomerAMG only when the user asks for
+        interpolation vectors (``pc_hypre_boomeramg_vec_interp_variant``: the nodal form,
+        which benchmarks/shell_precond.py measured slower per step than the systems form).
     rtol : float
         Relative tolerance: the residual falls to ``rtol`` times the initial guess's
         residual (``ksp_rtol`` overrides it).
@@ -416,13 +425,13 @@ class IterativeSolver(LinearSolver):
                  rtol: float = ITERATIVE_RTOL):
         super().__init__(A, comm, problem=problem, petsc_options=petsc_options,
                          options_key=options_key)
-        if problem == "elasticity":
-            defaults = ITERATIVE_DEFAULTS["elasticity"]
-        else:
-            defaults = ITERATIVE_DEFAULTS["heat_hypre" if _hypre_available() else "heat_gamg"]
+        defaults = iterative_defaults(problem, self.user_options.get("pc_type"),
+                                      hypre=_hypre_available())
         self.defaults = defaults
-        if near_nullspace is not None:
-            A.setNearNullSpace(near_nullspace)
+        wants = defaults["pc_type"] == "gamg" or any(
+            k.startswith("pc_hypre_boomeramg_vec_interp") for k in self.user_options)
+        if near_nullspace is not None and wants:
+            A.setNearNullSpace(near_nullspace() if callable(near_nullspace) else near_nullspace)
         ksp = self.ksp
         self._configure_scratch(ksp)
         ksp.setTolerances(rtol=rtol, atol=0.0, max_it=10000)
@@ -433,7 +442,8 @@ class IterativeSolver(LinearSolver):
 
     def _configure_scratch(self, ksp) -> None:
         ksp.setType(self.defaults["ksp_type"])
-        ksp.getPC().setType(self.defaults["pc_type"])
+        if "pc_type" not in self.user_options:      # a user's type: set (and checked) by
+            ksp.getPC().setType(self.defaults["pc_type"])   # PETSc's options, in _set_options
 
     def _solve(self, b, x) -> tuple[int, int]:
         bnorm = b.norm()
@@ -465,6 +475,5 @@ def make_solver(A: PETSc.Mat, comm: MPI.Comm, *, kind: str, problem: str,
     if kind == "out_of_core":
         return OutOfCoreSolver(A, comm, problem=problem, petsc_options=petsc_options,
                                options_key=options_key)
-    nsp = near_nullspace() if callable(near_nullspace) else near_nullspace
     return IterativeSolver(A, comm, problem=problem, petsc_options=petsc_options,
-                           options_key=options_key, near_nullspace=nsp, rtol=rtol)
+                           options_key=options_key, near_nullspace=near_nullspace, rtol=rtol)

@@ -60,3 +60,18 @@ def test_shell_same_on_1_and_2_ranks(tmp_path, solver):
     r1, r2 = _pair(tmp_path, solver, "shell", 0.04, timeout=3600)
     assert r1["n_dofs"] > 1e5
     _check_agree(r1, r2, solver)
+
+
+def test_iterative_matches_direct_on_thin_walls_on_2_ranks(tmp_path):
+    """The coarse shell and plate of tests/unit/fem/test_fem_iterative_thin.py on 2 ranks:
+    CG + BoomerAMG against the direct solver (SuperLU_DIST on 2 ranks), static,
+    generalized-alpha and heat, to the same 1e-8 of the largest value."""
+    r = mpirun.run_json(HERE / "thin_solver_mpi_case.py", 2, tmp_path / "thin.json")
+    assert r["n_ranks"] == 2
+    for name in ("shell", "plate"):
+        it = r[name]["iterative"]
+        assert it["kinds"] == ["iterative"] * 3
+        assert it["pcs"] == ["cg + hypre"] * 3
+        assert min(min(its) for its in it["its"]) > 1
+        for key, err in r[name]["errors"].items():
+            assert err <= TOL, f"{name} {key}: {err:.2e}"

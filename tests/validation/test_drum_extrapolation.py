@@ -4,19 +4,31 @@ an ensemble (tests/validation/conftest.py).
 
 Default suite: the quick drum of demos/drum_extrapolation.toml -- 640 particles in
 R = 0.06 m at the reference Froude number 0.048 (cascading), settled 0.5 s, a quarter
-turn (5,590 steps) as the period (the seed extrapolates by quarter, half and full turns,
-its Figs. 13-15), sampling n = 10 with Delta t_c^max = 0.01 s. The demo's case itself
+turn of spin-up, and half a turn (11,180 steps) as the period (the seed extrapolates by
+quarter, half and full turns, its Figs. 13-15, its reference case by full turns),
+sampling n = 10 with Delta t_c^max = 0.01 s (the seed's 0.001 s, gsi.studies.drum.
+DT_SPLIT, and n = 1 give the same eq. 10 within 0.1 % of the heat moved and the same
+eq.-9 ratios on the ensemble, with an 8.3 times larger log: benchmarks/drum_sweep.py,
+docs/design.md "Long-time heat extrapolation"). The demo's case itself
 runs once through ``gsi run``'s runner in its quick form, with the reference DEM cut to
 one period (``compare_periods = 1``; the replay still runs six): its ``extrapolation.csv``
 and ``contact_log.npz`` are checked for what holds on any trajectory (conservation, the
 log's wall rows).
 
+Why half a turn (2026-12-05; until then a quarter turn, P = 3, M = 4): measured on
+ensembles of M = 4 at dt and at dt (1 + 1e-12), the quarter turn's eps_abs ratio to the
+twin at t2 is 1.50-1.57 (it had to be asserted at 2 there) and its eq. 10 -6.3 +- 1.0 %
+and -8.2 +- 3.0 %; with half a turn the ratio is 1.14, 1.03 and 1.06, 1.01 at t2, t3 and
+eq. 10 -2.9 +- 1.4 % and -4.2 +- 1.1 % (benchmarks/drum_sweep.py, M = 3: quarter
+5.3 +- 0.3 %, half 2.8 +- 1.1 %). Its cost is about kept: M = 3 members of P = 2 half-turn
+periods step as many DEM steps as M = 4 of P = 3 quarter turns.
+
 The flow is chaotic: one trajectory is one sample, and a change of summation order gives
 another (the single-run form of this test failed on a faster CPU, its hot/cold gap
 0.306 K off against a 0.192 K bound, and on 5 of 6 neighbouring trajectories
-dt x (1 + k 1e-12)). So M = 4 realisations are run: after the settling, member k's
+dt x (1 + k 1e-12)). So M = 3 realisations are run: after the settling, member k's
 positions are moved by up to k x 0.5 nm (conftest.perturb), the drum turns a quarter turn
-to t0, one period is logged and extrapolated for P = 3 periods, and the DEM runs on as
+to t0, one period is logged and extrapolated for P = 2 periods, and the DEM runs on as
 the reference. Beside it, the DEM's own chaos is the yardstick (the "twin"): a second DEM
 from t1 with every position moved by up to 1 nm, compared with the reference by the same
 eq. 9 -- the error of a prediction as good as the DEM itself.
@@ -28,20 +40,30 @@ Checked (claims on the ensemble mean, bound = mean +- 3 SE, conftest):
   DEM and the replay; eq. 9 of the library (k-d tree cells) equal to a brute-force
   nearest-seed computation from the raw fields, and eps_rel = eps_abs/|T_hot - T_cold|
   with T_hot, T_cold from the DEM's raw temperatures;
-- eq. 9: eps_abs(extrapolation) <= 1.5 eps_abs(twin) at t3 and t4. At t2 the twin is one
-  period from its 1 nm and has not reached the flow's full chaos: there the bound is 2
-  (ratio of the ensemble means measured 1.50-1.57 at t2, 1.08-1.19 at t3, t4; M = 4 at
-  dt and at dt (1 + 1e-12));
+- eq. 9: eps_abs(extrapolation) <= 1.5 eps_abs(twin) at every t_n (the issue's bound;
+  measured, M = 3 at dt and at dt (1 + 1e-12): ratio of the means 1.12, 1.05 and 1.08,
+  1.04 at t2, t3; excess eps_abs(extra) - 1.5 eps_abs(twin) -1.32 +- 0.34, -1.59 +-
+  0.39 K and -1.45 +- 0.25, -1.62 +- 0.22 K);
 - the hot and cold means (the seed's Fig. 7): the halves do mix, and the extrapolated gap
-  T_hot - T_cold stays within 10 % of the DEM's at every t_n (ensemble means measured
-  0.5-2.5 %, mean + 3 SE at most 5.5 %; the single-run test's 2 % was one trajectory: the
-  CI host's gave 2.4-3.7 % at t5-t7, and the members' sd reaches 2 % at t4);
+  T_hot - T_cold is off the DEM's by at most what eq. 10's bound allows: the gap G is the
+  heat the halves have exchanged since t1, so moved with a relative error e it is off by
+  e (G1 - Gn), i.e. |gap_ext - gap_dem|/gap_dem <= 0.25 (G1/Gn - 1) with eq. 10's
+  regression bound e = 0.25 and the DEM's own G1/Gn (ensemble mean): 5.5, 15 % at t2, t3
+  with half a turn, capped by the flat 10 % it replaced (2026-12-05), so 5.5, 10 %
+  (measured, M = 3: 0.96 +- 0.35,
+  2.3 +- 1.1 % and 0.90 +- 0.65, 2.8 +- 0.8 %).  Measured with the quarter
+  turn (M = 4, mean +- SE, at dt and at dt (1 + 1e-12)): signed -0.52 +- 0.13, -1.26 +-
+  0.11, -1.96 +- 0.36 % and -0.75 +- 0.22, -1.70 +- 0.42, -2.51 +- 0.98 % at t2..t4: the
+  extrapolated halves always mix faster, by the heat the halves exchange times 6-10 % --
+  the same excess as eq. 10's.  The twin DEM's gap differs from the reference's by only
+  0.05-0.66 %: the gap error is the method's bias, not the flow's chaos, so the twin is
+  no yardstick here; the seed's 5 % carried over the same way is the goal;
 - eq. 10 (heat moved per period): the seed's 5 % per period (its Fig. 10: 0.1-4.5 %) is
-  the goal, not met at 640 particles: ensemble means per period -2 % to -10 % (the
-  extrapolation moves more heat than the DEM; the members' means over t2..t4 -8.2 % +-
-  3.0 % and -6.3 % +- 1.0 %, M = 4, at dt and dt (1 + 1e-12)), so it is asserted only as
-  a regression bound: 25 % for the ensemble mean + 3 SE of |mean over the periods| (a
-  pairing inverted or left out gives 42 % and 67 %).
+  the goal, met by the ensemble means with half a turn but not at mean + 3 SE (see above:
+  the members' spread is 2-3 %; M = 3: 3.8 +- 1.5 % and 4.7 +- 1.4 %, mean + 3 SE 8.3 and
+  8.8 %), so it is asserted only as a regression bound: 25 % for
+  the ensemble mean + 3 SE of |mean over the periods| (a pairing inverted or left out
+  gives 42 % and 67 %).
 
 The seed's Table 5 (80,000 particles, 400 per cell: eps_abs 0.241 ... 0.03 K, eps_rel
 <= 3.1 %) is shown as the goal on the validation page; at 640 particles (3 per cell)
@@ -62,13 +84,16 @@ from gsi.extrapolation import Replay, compare_with_dem, period_errors, voronoi_s
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CASE = ROOT / "demos" / "drum_extrapolation.toml"
-M, PERIODS = 4, 3
-#: sd floors (conftest): about the smallest member spreads measured on four ensembles
-#: (M = 3 and 4, at dt and dt (1 + 1e-12), 2026-12-04: sd 0.25-0.70 K, 0.005-0.024,
+M, PERIODS = 3, 2
+#: sd floors (conftest): about the smallest member spreads measured on two ensembles of
+#: the half-turn period (M = 4 at dt and dt (1 + 1e-12), 2026-12-05: sd 0.36-0.58 K,
+#: 0.006-0.018, 0.022-0.028; the quarter-turn's, 2026-12-04: 0.25-0.70 K, 0.005-0.024,
 #: 0.02-0.06)
-SD_EPS_EXCESS = 0.25       # K, eps_abs(extra) - 1.5 eps_abs(twin)
+SD_EPS_EXCESS = 0.35       # K, eps_abs(extra) - 1.5 eps_abs(twin)
 SD_GAP = 0.006             # relative gap difference
 SD_EQ10 = 0.02             # eq. 10
+#: eq. 10's regression bound (test_heat_moved_per_period_eq10), also the hot/cold gap's
+EQ10_BOUND = 0.25
 
 
 @pytest.fixture(scope="module")
@@ -82,14 +107,15 @@ def ensemble(ens):
         sim.set_state(start)
         ens.perturb(sim.x, k)
         sim.step(quarter)                                       # spin-up to t0
-        r = compare_with_dem(sim, period_steps=quarter, periods=PERIODS,
+        r = compare_with_dem(sim, period_steps=2 * quarter, periods=PERIODS,
                              samplings=((10, 0.01),), hot=hot, twin=1e-9)
         run, dem = r["runs"][0], r["dem"]
         h = hot[run["log"].ids]
         members.append(dict(
             run=run, dem=dem, seeds=r["seeds"], hot=h,
             gap_dem=dem["T"][:, h].mean(1) - dem["T"][:, ~h].mean(1),
-            gap_ext=run["T"][:, h].mean(1) - run["T"][:, ~h].mean(1)))
+            gap_ext=run["T"][:, h].mean(1) - run["T"][:, ~h].mean(1),
+            gap_twin=dem["twin"]["T"][:, h].mean(1) - dem["twin"]["T"][:, ~h].mean(1)))
     return g, members, case
 
 
@@ -100,7 +126,7 @@ def test_the_quick_drum_is_the_family_at_the_seed_froude_number(ensemble, ens):
     for m in members:
         log = m["run"]["log"]
         assert log.n_particles == 640 and (log.every, log.split) == (10, 100)
-        assert log.period == pytest.approx(g.steps_per_turn // 4 * DT * ens.DT_SCALE)
+        assert log.period == pytest.approx(g.steps_per_turn // 4 * 2 * DT * ens.DT_SCALE)
         assert m["dem"]["T"].shape == (PERIODS + 1, 640)
     # the members are distinct realisations: their t1 differs
     assert not np.array_equal(members[0]["run"]["log"].x1, members[1]["run"]["log"].x1)
@@ -160,20 +186,16 @@ def test_extrapolation_error_within_the_dems_own_chaos(ensemble, ens, record_val
     ext = np.array([m["run"]["eps_abs"] for m in members])
     twin = np.array([m["dem"]["twin"]["eps_abs"] for m in members])
     s = ens.stat(ext - 1.5 * twin, SD_EPS_EXCESS)
-    s2 = ens.stat(ext - 2.0 * twin, SD_EPS_EXCESS)
     ratio = ext.mean(0) / twin.mean(0)
     print(f"eps_abs extra {ens.stat(ext).text()} K; twin {ens.stat(twin).text()} K;"
           f" ratio of means {np.round(ratio, 3)}; excess {s.text()} K")
-    record_validation("quick drum (640, M = 4): eps_abs(extra)/eps_abs(twin DEM) of the "
-                      "ensemble means at t3, t4", reference=1.5,
-                      measured=float(ratio[1:].max()), tolerance=1.5, kind="bound",
-                      note="mean + 3 SE of eps_abs(extra) - 1.5 eps_abs(twin) <= 0 at t3, t4 "
-                           "(2 at t2)", source="the DEM's own chaos (twin DEM, 1 nm at t1)",
+    record_validation(f"quick drum (640, half turn, M = {M}): eps_abs(extra)/eps_abs(twin "
+                      "DEM) of the ensemble means, largest over t2, t3", reference=1.5,
+                      measured=float(ratio.max()), tolerance=1.5, kind="bound",
+                      note="mean + 3 SE of eps_abs(extra) - 1.5 eps_abs(twin) <= 0 at every "
+                           "t_n", source="the DEM's own chaos (twin DEM, 1 nm at t1)",
                       goal="seed 003 Table 5 (80,000): eps_abs 0.241 .. 0.03 K")
-    # t3, t4: within 1.5 times the DEM's own chaos; t2, one period after the twin's 1 nm,
-    # before that has grown to the flow's full chaos: within 2 times (measured 1.51-1.54)
-    assert (s.upper()[1:] <= 0.0).all(), s.text()
-    assert s2.upper()[0] <= 0.0, s2.text()
+    assert (s.upper() <= 0.0).all(), s.text()
 
 
 def test_hot_and_cold_means_follow_the_full_dem(ensemble, ens, record_validation):
@@ -183,13 +205,27 @@ def test_hot_and_cold_means_follow_the_full_dem(ensemble, ens, record_validation
     mix = ens.stat(gd[:, -1] / gd[:, 0], 0.01)
     assert (mix.upper() < 0.8).all(), mix.text()                 # the halves do mix
     s = ens.stat(np.abs(ge - gd)[:, 1:] / gd[:, 1:], SD_GAP)
-    print(f"|gap_ext - gap_dem|/gap_dem at t2..t4: {s.text()}; gap_dem/gap_dem(t1) at the"
-          f" end {mix.text()}")
-    record_validation("quick drum (640, M = 4): |gap_extra - gap_DEM|/gap_DEM of the hot and "
-                      "cold means, largest ensemble mean + 3 SE", reference=0.10,
-                      measured=float(s.upper().max()), tolerance=0.10, kind="bound",
-                      source="seed 003 Fig. 7")
-    assert (s.upper() <= 0.10).all(), s.text()
+    # the bound: the gap is the heat the halves have exchanged since t1; moved with eq.
+    # 10's relative error e (the extrapolation's heat moved per period), the extrapolated
+    # gap at t_n is off by e (G1 - Gn), i.e. by e (G1/Gn - 1) of Gn, with e = EQ10_BOUND
+    # and G1/Gn the DEM's own mixing (its ensemble mean)
+    mixed = (gd[:, :1] / gd[:, 1:]).mean(0) - 1.0
+    # ... and never looser than the flat 10 % it replaced (at t3 the carried bound is 15 %)
+    bound = np.minimum(EQ10_BOUND * mixed, 0.10)
+    gt = np.array([m["gap_twin"] for m in members])
+    tw = ens.stat(np.abs(gt - gd)[:, 1:] / gd[:, 1:])
+    print(f"|gap_ext - gap_dem|/gap_dem at t2..t4: {s.text()}; bounds {np.round(bound, 4)}; "
+          f"signed {ens.stat((ge - gd)[:, 1:] / gd[:, 1:]).text()}; twin DEM {tw.text()}; "
+          f"gap_dem/gap_dem(t1) at the end {mix.text()}")
+    record_validation(f"quick drum (640, half turn, M = {M}): |gap_extra - gap_DEM|/gap_DEM "
+                      "of the hot and cold means, largest (ensemble mean + 3 SE)/bound",
+                      reference=1.0, measured=float((s.upper() / bound).max()), tolerance=1.0,
+                      kind="bound", source="seed 003 Fig. 7; eq. 10's bound carried to the gap",
+                      note="bound at t_n: min(0.25 (G1/Gn - 1), 10 %) = " +
+                           ", ".join(f"{100 * b:.1f} %" for b in bound),
+                      goal="the seed's eq. 10 <= 5 %: 0.05 (G1/Gn - 1) = " +
+                           ", ".join(f"{100 * b:.2f} %" for b in 0.05 * mixed))
+    assert (s.upper() <= bound).all(), s.text()
 
 
 def test_heat_moved_per_period_eq10(ensemble, ens, record_validation):
@@ -198,12 +234,14 @@ def test_heat_moved_per_period_eq10(ensemble, ens, record_validation):
     s = ens.stat(np.abs(e.mean(1)), SD_EQ10)
     print(f"eq. 10 (signed) at t2..t4: {ens.stat(e).text()}; |mean over the periods| "
           f"{s.text()}")
-    record_validation("quick drum (640, M = 4): eq. 10, |mean over t2..t4|, ensemble mean "
-                      "+ 3 SE", reference=0.25, measured=float(s.upper()), tolerance=0.25,
+    record_validation(f"quick drum (640, half turn, M = {M}): eq. 10, |mean over the "
+                      "periods|, ensemble mean + 3 SE", reference=EQ10_BOUND, measured=float(s.upper()),
+                      tolerance=EQ10_BOUND,
                       kind="bound", source="seed 003 eq. 10",
-                      goal="seed 003 Fig. 10: 0.1-4.5 % per period (<= 5 %); not met at 640 "
-                           "particles", note="regression bound; the seed's 5 % is the goal")
-    assert s.upper() <= 0.25, s.text()
+                      goal="seed 003 Fig. 10: 0.1-4.5 % per period (<= 5 %); at 640 "
+                           "particles, half a turn, the ensemble means 3.8-4.7 %, not at "
+                           "mean + 3 SE", note="regression bound; the seed's 5 % is the goal")
+    assert s.upper() <= EQ10_BOUND, s.text()
 
 
 @pytest.fixture(scope="module")

@@ -11,16 +11,24 @@ run on for 3 of them.  Checked:
 - the replay steps the FE once per coupling interval and keeps sum m c_p T (bed) +
   int rho c T dx (shell) - (heat in through the outer surface) to round-off (1e-12
   relative) over the 20 periods;
-- against the full run, per period: the bed's mean temperature and the mean
-  temperatures of the initially hot and cold halves within 0.05 K, the shell's mean
-  within 0.01 K, the heat the shell gives the bed in the period (the bed's heating)
-  within 5 %;
-- eq. 10 within the seed's 5 %;
-- eq. 9: regression bounds, on 200 Voronoi cells (1.5 particles each: single
+- against the full run (chaotic: judged on an ensemble of M = 3 realisations whose start
+  positions differ by up to k x 0.5 nm, tests/validation/conftest.py; each member's
+  largest error over the compared periods, the ensemble mean + 3 SE below the bound):
+  the bed's mean temperature and the mean temperatures of the initially hot and cold
+  halves within 0.05 K, the shell's mean within 0.01 K, the heat the shell gives the bed
+  in a period (the bed's heating) within 5 %;
+- eq. 10 within the seed's 5 % (met: members' largest |eq. 10| 1.2 +- 0.2 % at dt and
+  2.0 +- 0.5 % at dt (1 + 1e-12), mean +- SE, M = 3);
+- eq. 9 (ensemble, as above): regression bounds, on 200 Voronoi cells (1.5 particles each: single
   particles, as in the drum's quick test) 10 K, on 12 cells of 25 particles 3.5 K.  The
   seed's Table 5 (eps_abs <= 0.25 K, eps_rel <= 3.1 %, with 400 particles per cell) is
-  not reached: measured at t2, t3, t4 on 200 cells 4.1, 5.7, 7.6 K (eps_rel 21, 28,
-  38 % of T_hot - T_cold = 20 K), on 12 cells 1.1, 1.6, 2.5 K.  With k = 2 W/(m K) a
+  not reached: the members' largest eps_abs over t2..t4 on 200 cells 6.9 +- 0.3 K
+  (8.3 +- 0.3 K at dt (1 + 1e-12); one realisation measured 4.1, 5.7, 7.6 K at t2, t3,
+  t4, eps_rel 21, 28, 38 % of T_hot - T_cold = 20 K), on 12 cells 2.6 +- 0.3 K
+  (2.5 +- 0.2 K).  The means: largest differences 0.0016 +- 0.0005 K (bed), 0.007 +-
+  0.003 / 0.009 +- 0.002 K (hot / cold halves), 0.0010 +- 0.0002 K (shell), the bed's
+  heating 1.5 +- 0.3 % (at dt (1 + 1e-12): 0.0022, 0.009, 0.010, 0.0016 K, 2.4 %).
+  With k = 2 W/(m K) a
   particle keeps its temperature for many turns, so the field is carried by the
   particles' identities, and the cell error counts the particles that the relabelling
   (sigma^p of one quarter turn) puts in other cells than the DEM's own mixing does; it
@@ -35,75 +43,122 @@ from gsi.extrapolation import cell_error, voronoi_seeds
 from gsi.studies.kiln import kiln_case, kiln_geometry
 from gsi.run import Runner
 
+#: realisations (tests/validation/conftest.py: member k's start positions moved by up to
+#: k x 0.5 nm)
+M = 3
+#: sd floors (conftest): about the smaller member sd of two ensembles (M = 3 at dt and at
+#: dt (1 + 1e-12), 2026-12-05), measured sd: T_mean 0.00082/0.00043 K, T_hot
+#: 0.0052/0.0073 K, T_cold 0.0039/0.0096 K, T_wall_mean 0.00036/0.00019 K, gain
+#: 0.0050/0.0048, eq. 10 0.0031/0.0090, eps 200 cells 0.47/0.58 K, 12 cells 0.51/0.42 K
+SD_FLOOR = {"T_mean": 0.0004, "T_hot": 0.005, "T_cold": 0.004, "T_wall_mean": 0.0002,
+            "gain": 0.0048, "eq10": 0.003, "eps200": 0.45, "eps12": 0.4}
 
-@pytest.fixture(scope="module")
-def kiln(tmp_path_factory):
-    out = tmp_path_factory.mktemp("kiln")
+
+def _case():
     case = kiln_case(kiln_geometry(300), settle=0.5, spin_up=0.25, period_turns=0.25,
                      periods=20, compare_periods=3)
     case.output.pictures = False
-    runner = Runner(case, out=out, pictures=False, verbose=False)
-    res = runner.run()
-    csv = np.genfromtxt(out / "extrapolation.csv", delimiter=",", names=True)
-    return runner, res, csv, ContactLog.load(out / "contact_log.npz")
+    return case
 
 
-def test_the_kiln_is_the_drum_family_cascading(kiln):
-    runner, res, csv, log = kiln
-    g = kiln_geometry(300)
-    assert g.regime == "cascading" and g.period == pytest.approx(2.0)
-    assert res.n_particles == 300 and res.n_lost == 0
-    assert log.period == pytest.approx(0.5) and len(csv) == 21
-    # the FE wall's contacts are in the log, with their triangles
-    fe_wall = runner.sim.wall_slot(runner.structures[0].wall)
-    rows = log.pw_wall == fe_wall
-    assert rows.sum() > 100
-    assert log.pw_tri[rows].min() >= 0
-    assert log.pw_tri[rows].max() < len(runner.structures[0].interface.triangles)
+@pytest.fixture(scope="module")
+def kiln_ensemble(tmp_path_factory, ens):
+    """M realisations of the kiln: per member (runner, result, csv, log)."""
+    out = tmp_path_factory.mktemp("kiln")
+    members = []
+    for k, r in enumerate(ens.run_members(_case, out, M)):
+        d = out / f"m{k}"
+        csv = np.genfromtxt(d / "extrapolation.csv", delimiter=",", names=True)
+        members.append((r, r.result, csv, ContactLog.load(d / "contact_log.npz")))
+    return members
 
 
-def test_replay_balances_bed_shell_and_outer_heat_to_round_off(kiln):
-    _, res, csv, _ = kiln
-    E = csv["E_particles_extra"] + csv["E_structure_extra"] - csv["Q_boundary_extra"]
-    assert np.abs(E - E[0]).max() < 1e-12 * abs(E[0])
-    assert res.summary["energy_balance_rel"] < 1e-12
-    # heat did flow: the shell heated the bed, the jacket re-heated the shell
-    assert csv["Q_wall_extra"][1:].min() > 0
-    assert csv["T_mean_extra"][-1] > csv["T_mean_extra"][0] + 0.5
-    assert csv["Q_boundary_extra"][-1] > 0
+@pytest.fixture(scope="module")
+def kiln(kiln_ensemble):
+    """Member 0, the case as it is."""
+    return kiln_ensemble[0]
 
 
-def test_replay_follows_the_full_dem_fe_run(kiln):
-    _, res, csv, _ = kiln
+def _errors(member):
+    """The chaotic quantities of one member against its own full DEM + FE run: the largest
+    difference over the compared periods of the bed's, the hot and cold halves' and the
+    shell's mean temperatures (K), of the heat the bed took per period (relative), of
+    eq. 10, and eq. 9 on 200 cells and on 12 cells of 25 particles (K)."""
+    runner, _, csv, log = member
     live = ~np.isnan(csv["T_mean_dem"])
     assert live.sum() == 4
-    for a, b, tol in (("T_mean_extra", "T_mean_dem", 0.05), ("T_hot_extra", "T_hot_dem", 0.05),
-                      ("T_cold_extra", "T_cold_dem", 0.05),
-                      ("T_wall_mean_extra", "T_wall_mean_dem", 0.01)):
-        assert np.abs(csv[a][live] - csv[b][live]).max() < tol, a
-    # the heat the bed took in each period, extrapolated against full run
+    e = {a: float(np.abs(csv[f"{a}_extra"][live] - csv[f"{a}_dem"][live]).max())
+         for a in ("T_mean", "T_hot", "T_cold", "T_wall_mean")}
     C = csv["E_particles_extra"][0] / csv["T_mean_extra"][0]
     gain_dem = np.diff(csv["T_mean_dem"][live]) * C
     gain_ext = np.diff(csv["E_particles_extra"][live])
-    assert np.abs(gain_ext / gain_dem - 1).max() < 0.05
-    # eq. 10
-    assert np.nanmax(np.abs(csv["energy_error"])) < 0.05
-    # eq. 9 on 200 cells: single particles (a regression bound, see the docstring)
-    assert np.nanmax(csv["eps_abs"]) < 10.0
-
-
-def test_eq9_on_cells_of_25_particles(kiln):
-    runner, _, csv, log = kiln
+    e["gain"] = float(np.abs(gain_ext / gain_dem - 1).max())
+    e["eq10"] = float(np.nanmax(np.abs(csv["energy_error"])))
+    e["eps200"] = float(np.nanmax(csv["eps_abs"]))
     xp = runner.extrapolation
     hot = xp.hot[log.ids]
     seeds = voronoi_seeds(log.x1, 12, seed=0)
     errs = []
     for n in range(1, 4):
-        ea, er, used = cell_error(seeds, xp.dem_x[n], xp.dem_T[n], xp.res["x"][n],
-                                  xp.res["T"][n], hot=hot)
-        errs.append(ea)
+        ea, _, used = cell_error(seeds, xp.dem_x[n], xp.dem_T[n], xp.res["x"][n],
+                                 xp.res["T"][n], hot=hot)
         assert used == 12
-    assert max(errs) < 3.5
+        errs.append(ea)
+    e["eps12"] = float(max(errs))
+    return e
+
+
+def test_the_kiln_is_the_drum_family_cascading(kiln_ensemble):
+    g = kiln_geometry(300)
+    assert g.regime == "cascading" and g.period == pytest.approx(2.0)
+    for runner, res, csv, log in kiln_ensemble:
+        assert res.n_particles == 300 and res.n_lost == 0
+        assert log.period == pytest.approx(0.5) and len(csv) == 21
+        # the FE wall's contacts are in the log, with their triangles
+        fe_wall = runner.sim.wall_slot(runner.structures[0].wall)
+        rows = log.pw_wall == fe_wall
+        assert rows.sum() > 100
+        assert log.pw_tri[rows].min() >= 0
+        assert log.pw_tri[rows].max() < len(runner.structures[0].interface.triangles)
+    # the members are distinct realisations
+    assert not np.array_equal(kiln_ensemble[0][3].x1, kiln_ensemble[1][3].x1)
+
+
+def test_replay_balances_bed_shell_and_outer_heat_to_round_off(kiln_ensemble):
+    for _, res, csv, _ in kiln_ensemble:
+        E = csv["E_particles_extra"] + csv["E_structure_extra"] - csv["Q_boundary_extra"]
+        assert np.abs(E - E[0]).max() < 1e-12 * abs(E[0])
+        assert res.summary["energy_balance_rel"] < 1e-12
+        # heat did flow: the shell heated the bed, the jacket re-heated the shell
+        assert csv["Q_wall_extra"][1:].min() > 0
+        assert csv["T_mean_extra"][-1] > csv["T_mean_extra"][0] + 0.5
+        assert csv["Q_boundary_extra"][-1] > 0
+
+
+#: the claims on the ensemble: quantity, bound, unit, what the bound is
+BOUNDS = (("T_mean", 0.05, "K", "bed mean temperature, largest |extra - DEM| over t1..t4"),
+          ("T_hot", 0.05, "K", "initially hot half's mean temperature"),
+          ("T_cold", 0.05, "K", "initially cold half's mean temperature"),
+          ("T_wall_mean", 0.01, "K", "shell's mean temperature"),
+          ("gain", 0.05, "", "heat the bed took per period, largest relative error"),
+          ("eq10", 0.05, "", "eq. 10, largest |error| per period (the seed's 5 %)"),
+          ("eps200", 10.0, "K", "eq. 9 on 200 cells (1.5 particles each), regression bound"),
+          ("eps12", 3.5, "K", "eq. 9 on 12 cells of 25 particles, regression bound"))
+
+
+@pytest.mark.parametrize("key,bound,unit,what", BOUNDS, ids=[b[0] for b in BOUNDS])
+def test_replay_follows_the_full_dem_fe_run(kiln_ensemble, ens, record_validation, key,
+                                            bound, unit, what):
+    """Ensemble mean + 3 SE of each member's largest error <= the bound."""
+    v = [_errors(m)[key] for m in kiln_ensemble]
+    s = ens.stat(v, SD_FLOOR[key])
+    print(f"kiln {key}: members {np.round(v, 5)}; {s.text()}; sd {float(s.sd):.3g}")
+    record_validation(f"kiln (300, FE shell, M = {M}): {what}, ensemble mean + 3 SE",
+                      reference=bound, measured=float(s.upper()), tolerance=bound,
+                      kind="bound", unit=unit, source="gsi's own full DEM + FE run",
+                      goal="seed 003 eq. 10 <= 5 %, Table 5 eps_abs <= 0.25 K (400 per cell)"
+                      if key.startswith(("eq10", "eps")) else "")
+    assert s.upper() <= bound, s.text()
 
 
 def test_wall_contacts_turn_with_the_shell(kiln):

@@ -325,7 +325,7 @@ def test_case_keys_reach_the_simulation():
     assert (rad.cutoff, rad.every, rad.T_enclosure) == (1.5, 50, None)
     eps = dict(zip(sim.material_names, rad.eps_type))
     assert eps["clinker"] == 0.9 and eps["steel"] == 0.8
-    assert rad.stability() == pytest.approx(
+    assert rad.stability(sim.dt) == pytest.approx(
         50 * 3e-5 * 4 * SIGMA * 800.0 ** 3 * 3 * 0.9 / (0.0035 * 3150.0 * 1000.0 / 200.0),
         rel=0.02)                       # the smallest radius drawn is near 3.5 mm
 

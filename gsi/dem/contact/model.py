@@ -36,6 +36,8 @@ from gsi.dem.contact.dissipation import dissipation
 
 #: normal sub-models (elastic + damping): FN, KT, GT
 NORMAL = {"hertz": hertz.hertz, "linear": linear.linear}
+#: k_t of each normal sub-model grows as delta^p (the old spring energy of the dissipation)
+KT_POWER = {"hertz": 0.5, "linear": 0.0}
 #: tangential sub-models: FX..FZ and the spring
 TANGENTIAL = {"history": tangential.history}
 #: rolling sub-models: MX..MZ
@@ -51,6 +53,7 @@ assert list(ROLLING)[0] == "none" and list(HEAT)[0] == "none"
 K_T_OVER_K_N = linear.K_T_OVER_K_N
 
 _NORMAL = tuple(NORMAL.values())
+_KT_POWER = tuple(KT_POWER[name] for name in NORMAL)
 _TANGENTIAL = tuple(TANGENTIAL.values())
 _ROLLING = tuple(ROLLING.values())
 _HEAT = tuple(HEAT.values())
@@ -138,7 +141,7 @@ def evaluate_dissipation(n, B, dt, model):
     lanes, so one call serves a whole batch; outside :func:`evaluate`, whose compiled
     code then stays as it is without friction)."""
     if model[M_FRICTION] != 0:
-        dissipation(uint(0), uint(n), B, dt)
+        dissipation(uint(0), uint(n), B, dt, _KT_POWER[model[M_NORMAL]])
 
 
 @njit(_nrt=False)

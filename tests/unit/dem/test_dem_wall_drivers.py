@@ -8,7 +8,8 @@ import pytest
 from gsi.case.driven_motion import SchedulePoint
 from gsi.case.walls import Motion, Wall
 from gsi.dem import Material, Simulation
-from gsi.dem.wall_drivers import FreeWall, Oscillation, Servo, projected_area, wall_stiffness
+from gsi.dem.wall_drivers import (FreeWall, Oscillation, Servo, bed_of, projected_area,
+                                  wall_stiffness)
 from gsi.errors import GsiInputError
 
 MAT = Material(E=5e6, nu=0.3, rho=2500, e=0.5, mu=0.5)
@@ -37,16 +38,16 @@ def test_servo_gain_rule_and_refusal():
     sim = _sim()
     lid = sim.add_plane((0, 0, 0.01), (0, 0, -1), material="m")
     sim.add_particles([[0, 0, 0.0]], 1e-3, material="m")
-    K = wall_stiffness(sim, lid, 1.0, 4e-4)
+    K = wall_stiffness(bed_of(sim), lid, 1.0, 4e-4)
     # N_c = A/(2 sqrt(3) r^2) contacts, Hertz k = (6 E*^2 r f)^(1/3) at f = F/N_c
     n_c = 4e-4 / (2 * math.sqrt(3) * 1e-6)
     E_eff = 1 / ((1 - MAT.nu ** 2) / MAT.E * 2)
     assert K == pytest.approx(n_c * (6 * E_eff ** 2 * 1e-3 * 1.0 / n_c) ** (1 / 3), rel=1e-12)
     s = Servo(lid, target=1.0, area=4e-4, stress=False, max_speed=0.1)
-    assert s.set_gain(sim) * K * sim.dt == pytest.approx(0.5)
+    assert s.set_gain(sim.dt, bed_of(sim)) * K * sim.dt == pytest.approx(0.5)
     bad = Servo(lid, target=1.0, area=4e-4, stress=False, max_speed=0.1, gain=2.0 / (K * sim.dt))
     with pytest.raises(GsiInputError, match=r"servo.gain = .*above the stability limit"):
-        bad.set_gain(sim)
+        bad.set_gain(sim.dt, bed_of(sim))
 
 
 def test_projected_area_of_a_tilted_plate():

@@ -167,7 +167,7 @@ def test_iterative_builds_its_preconditioner_once_and_warm_starts(slab):
         p.step()
     assert setups.getPerfInfo()["count"] == after_two   # PETSc's own count: no rebuild
     assert p.n_factorizations == 1
-    assert p.linear_solver.describe() == "cg + gamg"
+    assert p.linear_solver.describe() == "cg + hypre"
     assert p.linear_solver.ksp.getInitialGuessNonzero()
     # a second static solve of the same problem starts at the solution: it stays there,
     # with less work (down to the round-off floor ITERATIVE_ATOL ||b|| only)
@@ -176,6 +176,19 @@ def test_iterative_builds_its_preconditioner_once_and_warm_starts(slab):
     s.solve()
     assert s.iterations[1] < s.iterations[0]
     assert np.abs(s.u.x.array - u1).max() <= 1e-12 * np.abs(u1).max()
+
+
+def test_iterative_preconditioner_by_problem_and_by_pc_type(slab):
+    """BoomerAMG by default (systems form: no near-nullspace needed); pc_type = "gamg"
+    gives GAMG with gsi's GAMG defaults and the six rigid-body modes; both agree."""
+    h = _static(slab, "iterative")
+    g = _static(slab, "iterative", petsc_options={"pc_type": "gamg"})
+    assert h.linear_solver.describe() == "cg + hypre"
+    assert not h.linear_solver.A.getNearNullSpace().handle         # none attached
+    assert g.linear_solver.describe() == "cg + gamg"
+    assert len(g.linear_solver.A.getNearNullSpace().getVecs()) == 6
+    assert g.iterations[0] > h.iterations[0]
+    assert _close(h.u.x.array, g.u.x.array)
 
 
 def test_zero_load_gives_zero_without_iterating(slab):

@@ -1,0 +1,151 @@
+"""Benchmark "drum_sweep": seed 003's sampling sweep (its Fig. 10: eq. 10 for the sampling
+factor n and the longest row Delta t_c^max; its Table 8: the collision file per period
+length) on an ensemble of small drums, beside the DEM's own chaos (the twin DEM).
+
+The quick drum of :mod:`gsi.studies.drum` (default 640 particles, R = 0.06 m, Fr 0.048,
+cascading) as the quick-drum validation test sets it up (tests/validation/
+test_drum_extrapolation.py): filled, settled 0.5 s, halves hot/cold at the end of the
+settling; then for each member k of the ensemble (k = 0..M-1) every position is moved by
+up to k x 0.5 nm per coordinate (generator k, as tests/validation/conftest.py), the drum
+turns a quarter turn to t0, and for each period length (``--periods-turns``, in turns:
+0.25 quarter, 0.5 half) one period t0..t1 is logged with every sampling of
+``--samplings`` (n:steps, Delta t_c^max in DEM steps), replayed for ``--periods``
+periods and compared with the same DEM run on, and with a twin DEM from t1 moved by 1 nm.
+
+Printed per period length and sampling: eq. 10 at every t_n (signed, mean +- SE over the
+members), the mean of |eq. 10| over the periods, eps_abs(extrapolation)/eps_abs(twin)
+(ratio of the ensemble means per t_n), and the collision file (MB, rows, bytes per
+collision) and its MB per turn of drum.  Last line: key=value pairs, for each period
+``q`` (quarter) or ``h`` (half) and sampling ``n<n>m<steps>``: ``eq10_<p>_<s>`` (ensemble
+mean of the members' mean |eq. 10| over the periods), ``eq10se_<p>_<s>``,
+``ratio2_<p>_<s>`` (eps ratio at t2), ``ratio_<p>_<s>`` (largest ratio over t3..),
+``mb_<p>_<s>`` (file MB of one period).
+
+    python benchmarks/drum_sweep.py [--members 4] [--periods 3] [--periods-turns 0.25,0.5]
+        [--samplings 1:10,1:100,10:10,10:100] [--dt-scale 1] [--particles 640]
+
+``--dt-scale`` multiplies the DEM step (1.000000000001: the round-off check of the
+ensemble, another set of trajectories).  A member costs, per period length, one spin-up,
+one DEM period per sampling, and 2 x ``--periods`` periods of reference and twin.
+"""
+from __future__ import annotations
+
+import argparse
+import pathlib
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+#: sub-nanometre start perturbation per member index (m), as tests/validation/conftest.py
+SHIFT = 0.5e-9
+
+
+def perturb(x, k):
+    """Member ``k``'s start: positions moved by up to k x SHIFT per coordinate."""
+    if k:
+        x += SHIFT * k * np.random.default_rng(k).uniform(-1.0, 1.0, x.shape)
+
+
+def stat(v):
+    """Mean and standard error over axis 0."""
+    v = np.asarray(v, float)
+    se = v.std(0, ddof=1) / np.sqrt(len(v)) if len(v) > 1 else np.zeros(v.shape[1:])
+    return v.mean(0), se
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--particles", type=int, default=640)
+    ap.add_argument("--members", type=int, default=4)
+    ap.add_argument("--periods", type=int, default=3, help="extrapolated periods")
+    ap.add_argument("--periods-turns", default="0.25,0.5",
+                    help="period lengths in turns (default quarter and half)")
+    ap.add_argument("--samplings", default="1:10,1:100,10:10,10:100",
+                    help="n:Delta t_c^max in DEM steps, comma separated")
+    ap.add_argument("--dt-scale", type=float, default=1.0)
+    ap.add_argument("--threads", type=int, default=None)
+    args = ap.parse_args(argv)
+    import numba
+    if args.threads:
+        numba.set_num_threads(args.threads)
+    from gsi.studies.drum import DT, drum_geometry, prepare
+    from gsi.extrapolation import compare_with_dem
+    g = drum_geometry(args.particles)
+    dt = DT * args.dt_scale
+    samplings = [tuple(int(a) for a in s.split(":")) for s in args.samplings.split(",")]
+    turns = [float(t) for t in args.periods_turns.split(",")]
+    print(f"drum: {g.particles} particles, R = {g.radius:.4g} m, {g.period:.4g} s per turn, "
+          f"Fr = {g.froude:.4g} ({g.regime}); dt = {dt!r}; M = {args.members}; samplings "
+          f"(n, Delta t_c^max steps) {samplings}; periods {turns} turns; threads "
+          f"{numba.get_num_threads()}", flush=True)
+    t_all = time.perf_counter()
+    sim, hot, _ = prepare(g, settle=0.5, spin_up=0.0, dt=dt)
+    start = sim.state()
+    quarter = g.steps_per_turn // 4
+    res = {}
+    out = {"particles": g.particles, "members": args.members, "dt_scale": args.dt_scale}
+    for f in turns:
+        steps = int(round(f * g.steps_per_turn))
+        pname = {0.25: "q", 0.5: "h", 1.0: "f"}.get(f, f"t{f:g}")
+        rows = {s: dict(eq10=[], ext=[], mb=[], n=[], bpc=[]) for s in samplings}
+        twin = []
+        for k in range(args.members):
+            t = time.perf_counter()
+            sim.set_state(start)
+            perturb(sim.x, k)
+            sim.step(quarter)                                   # spin-up to t0
+            with tempfile.TemporaryDirectory() as tmp:
+                r = compare_with_dem(
+                    sim, period_steps=steps, periods=args.periods, hot=hot, twin=1e-9,
+                    samplings=[(n, m * DT * args.dt_scale) for n, m in samplings],
+                    log_dir=tmp)
+                for s, run in zip(samplings, r["runs"]):
+                    assert run["same_t1"]
+                    d = rows[s]
+                    d["eq10"].append(run["energy_error"])
+                    d["ext"].append(run["eps_abs"])
+                    d["mb"].append(run["file_bytes"] / 1e6)
+                    d["n"].append(run["log"].n_collisions)
+                    d["bpc"].append(run["log"].bytes_per_collision())
+            twin.append(r["dem"]["twin"]["eps_abs"])
+            print(f"  {f:g} turn, member {k}: {time.perf_counter() - t:.0f} s; eq. 10 "
+                  + "; ".join(f"n{n}m{m} " + " ".join(f"{100 * e:+.1f}" for e in
+                                                       rows[(n, m)]["eq10"][-1])
+                              for n, m in samplings) + " %", flush=True)
+        tw_mean = np.mean(twin, 0)
+        print(f"period {f:g} turn ({steps} steps): twin eps_abs "
+              + ", ".join(f"{a:.3f}" for a in tw_mean) + " K at t2..", flush=True)
+        for n, m in samplings:
+            d = rows[(n, m)]
+            e = np.array(d["eq10"])
+            em, es = stat(e)
+            am, ase = stat(np.abs(e.mean(1)))
+            ratio = np.mean(d["ext"], 0) / tw_mean
+            mb = float(np.mean(d["mb"]))
+            print(f"  n = {n}, Delta t_c^max = {m} steps ({m * DT:g} s): eq. 10 per period "
+                  + ", ".join(f"{100 * a:+.2f} +- {100 * b:.2f}" for a, b in zip(em, es))
+                  + f" %; |mean over the periods| {100 * am:.2f} +- {100 * ase:.2f} %; "
+                  f"eps_abs/twin " + ", ".join(f"{x:.2f}" for x in ratio)
+                  + f"; file {mb:.2f} MB ({np.mean(d['n']):.0f} rows, "
+                  f"{np.mean(d['bpc']):.1f} bytes/collision), {mb / f:.2f} MB per turn",
+                  flush=True)
+            key = f"{pname}_n{n}m{m}"
+            out.update({f"eq10_{key}": float(am), f"eq10se_{key}": float(ase),
+                        f"ratio2_{key}": float(ratio[0]),
+                        f"ratio_{key}": float(ratio[1:].max()) if len(ratio) > 1 else
+                        float("nan"), f"mb_{key}": mb})
+            res[(f, n, m)] = dict(eq10=e, ratio=ratio, mb=mb)
+    out["seconds"] = time.perf_counter() - t_all
+    out["dt_scale"] = repr(args.dt_scale)         # all digits: 1.000000000001
+    print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
+                   for k, v in out.items()))
+    return res
+
+
+if __name__ == "__main__":
+    main()
