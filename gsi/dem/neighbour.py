@@ -195,48 +195,81 @@ def plane_candidates(x, radius, skin, point, normal, plane_cand):
 def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
     """Triangles per cell: each triangle goes into the cells of its bounding box
     (inflated by ``inflate``, m) whose centre lies within half a cell diagonal plus
-    ``inflate`` of the triangle.  Returns ``(tcell_start, tcell_list)``."""
+    ``inflate`` of the triangle.  Returns ``(tcell_start, tcell_list)``, each cell's
+    triangles in ascending order.
+
+    One pass over the triangles writes the (cell, triangle) entries, then a counting
+    sort by cell.  A cell centre farther from the triangle's plane than the reach (with
+    a margin of 1e-9 of it, so that round-off never drops a cell the exact test keeps)
+    is skipped before its closest point is sought: the plane distance is a lower bound
+    of the distance to the triangle."""
     nt = mt.shape[0]
     ncell = dims[0] * dims[1] * dims[2]
     cs = 1.0 / inv_cs
     half_diag = 0.5 * math.sqrt(cs[0] ** 2 + cs[1] ** 2 + cs[2] ** 2)
     reach2 = (half_diag + inflate) ** 2
+    plane_reach2 = reach2 * (1.0 + 1e-9)
+    cap = 8 * nt + 64
+    ent_cell = np.empty(cap, np.int64)
+    ent_tri = np.empty(cap, np.int32)
+    m = 0
+    for t in range(nt):
+        a = mt[t, 0]
+        b = mt[t, 1]
+        c_ = mt[t, 2]
+        ax_, ay_, az_ = mv_x[a, 0], mv_x[a, 1], mv_x[a, 2]
+        bx_, by_, bz_ = mv_x[b, 0], mv_x[b, 1], mv_x[b, 2]
+        cx_, cy_, cz_ = mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2]
+        ux = bx_ - ax_
+        uy = by_ - ay_
+        uz = bz_ - az_
+        vx = cx_ - ax_
+        vy = cy_ - ay_
+        vz = cz_ - az_
+        Nx = uy * vz - uz * vy
+        Ny = uz * vx - ux * vz
+        Nz = ux * vy - uy * vx
+        N2 = Nx * Nx + Ny * Ny + Nz * Nz
+        k0 = max(0, int(math.floor((min(ax_, bx_, cx_) - inflate - lo[0]) * inv_cs[0])))
+        k1 = min(dims[0] - 1, int(math.floor((max(ax_, bx_, cx_) + inflate - lo[0]) * inv_cs[0])))
+        l0 = max(0, int(math.floor((min(ay_, by_, cy_) - inflate - lo[1]) * inv_cs[1])))
+        l1 = min(dims[1] - 1, int(math.floor((max(ay_, by_, cy_) + inflate - lo[1]) * inv_cs[1])))
+        m0 = max(0, int(math.floor((min(az_, bz_, cz_) - inflate - lo[2]) * inv_cs[2])))
+        m1 = min(dims[2] - 1, int(math.floor((max(az_, bz_, cz_) + inflate - lo[2]) * inv_cs[2])))
+        for ax in range(k0, k1 + 1):
+            px = lo[0] + (ax + 0.5) * cs[0]
+            for ay in range(l0, l1 + 1):
+                py = lo[1] + (ay + 0.5) * cs[1]
+                for az in range(m0, m1 + 1):
+                    pz = lo[2] + (az + 0.5) * cs[2]
+                    h = (px - ax_) * Nx + (py - ay_) * Ny + (pz - az_) * Nz
+                    if h * h > plane_reach2 * N2:
+                        continue
+                    qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
+                        px, py, pz, ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_)
+                    if (qx - px) ** 2 + (qy - py) ** 2 + (qz - pz) ** 2 > reach2:
+                        continue
+                    if m == cap:                  # grow the entry buffers
+                        cap *= 2
+                        nc = np.empty(cap, np.int64)
+                        ntr = np.empty(cap, np.int32)
+                        nc[:m] = ent_cell[:m]
+                        ntr[:m] = ent_tri[:m]
+                        ent_cell, ent_tri = nc, ntr
+                    ent_cell[m] = (ax * dims[1] + ay) * dims[2] + az
+                    ent_tri[m] = t
+                    m += 1
     counts = np.zeros(ncell + 1, np.int64)
-    for sweep in range(2):
-        if sweep == 1:
-            for c in range(ncell):
-                counts[c + 1] += counts[c]
-            fill = counts[:-1].copy()
-            tcell_list = np.empty(counts[ncell], np.int32)
-        for t in range(nt):
-            a = mt[t, 0]
-            b = mt[t, 1]
-            c_ = mt[t, 2]
-            kmin = np.empty(3, np.int64)
-            kmax = np.empty(3, np.int64)
-            for d in range(3):
-                mn = min(mv_x[a, d], mv_x[b, d], mv_x[c_, d]) - inflate
-                mx = max(mv_x[a, d], mv_x[b, d], mv_x[c_, d]) + inflate
-                kmin[d] = max(0, int(math.floor((mn - lo[d]) * inv_cs[d])))
-                kmax[d] = min(dims[d] - 1, int(math.floor((mx - lo[d]) * inv_cs[d])))
-            for ax in range(kmin[0], kmax[0] + 1):
-                for ay in range(kmin[1], kmax[1] + 1):
-                    for az in range(kmin[2], kmax[2] + 1):
-                        px = lo[0] + (ax + 0.5) * cs[0]
-                        py = lo[1] + (ay + 0.5) * cs[1]
-                        pz = lo[2] + (az + 0.5) * cs[2]
-                        qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
-                            px, py, pz, mv_x[a, 0], mv_x[a, 1], mv_x[a, 2],
-                            mv_x[b, 0], mv_x[b, 1], mv_x[b, 2],
-                            mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2])
-                        if (qx - px) ** 2 + (qy - py) ** 2 + (qz - pz) ** 2 > reach2:
-                            continue
-                        cell = (ax * dims[1] + ay) * dims[2] + az
-                        if sweep == 0:
-                            counts[cell + 1] += 1
-                        else:
-                            tcell_list[fill[cell]] = t
-                            fill[cell] += 1
+    for e in range(m):
+        counts[ent_cell[e] + 1] += 1
+    for c in range(ncell):
+        counts[c + 1] += counts[c]
+    fill = counts[:-1].copy()
+    tcell_list = np.empty(m, np.int32)
+    for e in range(m):                            # stable: ascending triangles per cell
+        c = ent_cell[e]
+        tcell_list[fill[c]] = ent_tri[e]
+        fill[c] += 1
     return counts, tcell_list
 
 

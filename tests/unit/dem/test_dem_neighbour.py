@@ -264,3 +264,38 @@ def test_one_pass_serial_lists_equal_the_two_pass_parallel_ones(short):
     np.testing.assert_array_equal(o_start, t_start)
     m = min(len(o_tri), ntri)
     np.testing.assert_array_equal(o_tri[:m], t_tri[:m])
+
+
+def test_triangle_bins_are_exactly_the_cells_within_reach():
+    """bin_triangles (one pass, a plane pre-test, a counting sort) against its definition,
+    cell by cell: a cell lists triangle t, in ascending order, exactly when it is in t's
+    bounding box inflated by ``inflate`` and its centre lies within half a cell diagonal
+    plus ``inflate`` of t (random meshes, flat sheets and a degenerate triangle)."""
+    from gsi.dem import cells, neighbour as nbr
+    from gsi.dem.geometry import closest_point_triangle
+    rng = np.random.default_rng(7)
+    for trial in range(12):
+        v = rng.random((20, 3)) * 0.1
+        if trial % 3 == 0:
+            v[:, 2] = 0.03                                  # a flat sheet
+        tri = rng.integers(0, 20, (25, 3)).astype(np.int64)
+        tri[0] = [0, 0, 1]                                  # degenerate: a segment
+        lo, hi = np.full(3, -0.005), np.full(3, 0.105)
+        dims, inv_cs = cells.grid_for(lo, hi, 0.1 * rng.choice([0.1, 0.25]), 100)
+        inflate = 0.1 * rng.choice([0.0, 0.02])
+        tstart, tlist = nbr.bin_triangles(v, tri, lo, inv_cs, dims, inflate)
+        cs = 1.0 / inv_cs
+        reach2 = (0.5 * np.sqrt((cs ** 2).sum()) + inflate) ** 2
+        for c in range(int(dims.prod())):
+            k = np.array(np.unravel_index(c, dims))
+            p = lo + (k + 0.5) * cs
+            want = []
+            for t in range(len(tri)):
+                tv = v[tri[t]]
+                k_lo = np.maximum(0, np.floor((tv.min(0) - inflate - lo) * inv_cs))
+                k_hi = np.minimum(dims - 1, np.floor((tv.max(0) + inflate - lo) * inv_cs))
+                q = np.array(closest_point_triangle(*p, *tv[0], *tv[1], *tv[2])[:3])
+                # not farther (a degenerate triangle's closest point is NaN: kept)
+                if (k_lo <= k).all() and (k <= k_hi).all() and not ((q - p) ** 2).sum() > reach2:
+                    want.append(t)
+            assert tlist[tstart[c]:tstart[c + 1]].tolist() == want, (trial, c)
