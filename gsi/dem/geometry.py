@@ -8,6 +8,20 @@ from gsi.jit import njit
 FACE, VA, VB, VC, EAB, EBC, ECA = range(7)
 
 
+@njit(inline="always")
+def triangle_normal(ax, ay, az, bx, by, bz, cx, cy, cz):
+    """N = (b - a) x (c - a), the unnormalised normal of triangle (a, b, c) (|N| is twice
+    its area; 0 for a degenerate one).  The plane distance of a point p is
+    (p - a).N / |N|, a lower bound of its distance to the triangle."""
+    ux = bx - ax
+    uy = by - ay
+    uz = bz - az
+    vx = cx - ax
+    vy = cy - ay
+    vz = cz - az
+    return uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+
+
 @njit
 def closest_point_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz):
     """Closest point of triangle (a, b, c) to p, its barycentric weights and region.

@@ -24,9 +24,9 @@ import math
 import numpy as np
 
 from gsi.jit import njit, pjit, prange
-from gsi.dem.geometry import closest_point_triangle
+from gsi.dem.geometry import closest_point_triangle, triangle_normal
 from gsi.dem.contact_geometry import plane_distance
-from gsi.dem.cells import cell_coords, neighbour_cell
+from gsi.dem.cells import bin_cells, cell_coords, neighbour_cell
 
 
 @njit
@@ -191,6 +191,14 @@ def plane_candidates(x, radius, skin, point, normal, plane_cand):
         plane_cand[i] = m
 
 
+@njit(inline="always")
+def _span(mn, mx, inflate, lo, inv_cs, dim):
+    """First and last cell along one axis of the interval [mn, mx] inflated by
+    ``inflate`` (m), clamped into the grid's ``dim`` cells."""
+    return (max(0, int(math.floor((mn - inflate - lo) * inv_cs))),
+            min(dim - 1, int(math.floor((mx + inflate - lo) * inv_cs))))
+
+
 @njit
 def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
     """Triangles per cell: each triangle goes into the cells of its bounding box
@@ -198,11 +206,11 @@ def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
     ``inflate`` of the triangle.  Returns ``(tcell_start, tcell_list)``, each cell's
     triangles in ascending order.
 
-    One pass over the triangles writes the (cell, triangle) entries, then a counting
-    sort by cell.  A cell centre farther from the triangle's plane than the reach (with
-    a margin of 1e-9 of it, so that round-off never drops a cell the exact test keeps)
-    is skipped before its closest point is sought: the plane distance is a lower bound
-    of the distance to the triangle."""
+    One pass over the triangles writes the (cell, triangle) entries, then the counting
+    sort by cell of :func:`gsi.dem.cells.bin_cells`.  A cell centre farther from the
+    triangle's plane than the reach (with a margin of 1e-9 of it, so that round-off never
+    drops a cell the exact test keeps) is skipped before its closest point is sought:
+    the plane distance is a lower bound of the distance to the triangle."""
     nt = mt.shape[0]
     ncell = dims[0] * dims[1] * dims[2]
     cs = 1.0 / inv_cs
@@ -220,22 +228,14 @@ def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
         ax_, ay_, az_ = mv_x[a, 0], mv_x[a, 1], mv_x[a, 2]
         bx_, by_, bz_ = mv_x[b, 0], mv_x[b, 1], mv_x[b, 2]
         cx_, cy_, cz_ = mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2]
-        ux = bx_ - ax_
-        uy = by_ - ay_
-        uz = bz_ - az_
-        vx = cx_ - ax_
-        vy = cy_ - ay_
-        vz = cz_ - az_
-        Nx = uy * vz - uz * vy
-        Ny = uz * vx - ux * vz
-        Nz = ux * vy - uy * vx
+        Nx, Ny, Nz = triangle_normal(ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_)
         N2 = Nx * Nx + Ny * Ny + Nz * Nz
-        k0 = max(0, int(math.floor((min(ax_, bx_, cx_) - inflate - lo[0]) * inv_cs[0])))
-        k1 = min(dims[0] - 1, int(math.floor((max(ax_, bx_, cx_) + inflate - lo[0]) * inv_cs[0])))
-        l0 = max(0, int(math.floor((min(ay_, by_, cy_) - inflate - lo[1]) * inv_cs[1])))
-        l1 = min(dims[1] - 1, int(math.floor((max(ay_, by_, cy_) + inflate - lo[1]) * inv_cs[1])))
-        m0 = max(0, int(math.floor((min(az_, bz_, cz_) - inflate - lo[2]) * inv_cs[2])))
-        m1 = min(dims[2] - 1, int(math.floor((max(az_, bz_, cz_) + inflate - lo[2]) * inv_cs[2])))
+        k0, k1 = _span(min(ax_, bx_, cx_), max(ax_, bx_, cx_), inflate, lo[0], inv_cs[0],
+                       dims[0])
+        l0, l1 = _span(min(ay_, by_, cy_), max(ay_, by_, cy_), inflate, lo[1], inv_cs[1],
+                       dims[1])
+        m0, m1 = _span(min(az_, bz_, cz_), max(az_, bz_, cz_), inflate, lo[2], inv_cs[2],
+                       dims[2])
         for ax in range(k0, k1 + 1):
             px = lo[0] + (ax + 0.5) * cs[0]
             for ay in range(l0, l1 + 1):
@@ -259,18 +259,8 @@ def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
                     ent_cell[m] = (ax * dims[1] + ay) * dims[2] + az
                     ent_tri[m] = t
                     m += 1
-    counts = np.zeros(ncell + 1, np.int64)
-    for e in range(m):
-        counts[ent_cell[e] + 1] += 1
-    for c in range(ncell):
-        counts[c + 1] += counts[c]
-    fill = counts[:-1].copy()
-    tcell_list = np.empty(m, np.int32)
-    for e in range(m):                            # stable: ascending triangles per cell
-        c = ent_cell[e]
-        tcell_list[fill[c]] = ent_tri[e]
-        fill[c] += 1
-    return counts, tcell_list
+    counts, order = bin_cells(m, ent_cell, ncell)  # stable: ascending triangles per cell
+    return counts, ent_tri[order]
 
 
 @njit
@@ -294,15 +284,9 @@ def _near_triangles(i, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, 
         b = mt[t, 1]
         c_ = mt[t, 2]
         # plane test: ((x - a).N)^2 >= rc^2 |N|^2, N = (b - a) x (c - a)
-        ux = mv_x[b, 0] - mv_x[a, 0]
-        uy = mv_x[b, 1] - mv_x[a, 1]
-        uz = mv_x[b, 2] - mv_x[a, 2]
-        vx = mv_x[c_, 0] - mv_x[a, 0]
-        vy = mv_x[c_, 1] - mv_x[a, 1]
-        vz = mv_x[c_, 2] - mv_x[a, 2]
-        Nx = uy * vz - uz * vy
-        Ny = uz * vx - ux * vz
-        Nz = ux * vy - uy * vx
+        Nx, Ny, Nz = triangle_normal(mv_x[a, 0], mv_x[a, 1], mv_x[a, 2], mv_x[b, 0],
+                                     mv_x[b, 1], mv_x[b, 2], mv_x[c_, 0], mv_x[c_, 1],
+                                     mv_x[c_, 2])
         h = ((x[i, 0] - mv_x[a, 0]) * Nx + (x[i, 1] - mv_x[a, 1]) * Ny
              + (x[i, 2] - mv_x[a, 2]) * Nz)
         if h * h >= rc2 * (Nx * Nx + Ny * Ny + Nz * Nz):
