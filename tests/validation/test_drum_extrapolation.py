@@ -79,7 +79,8 @@ from gsi.case import load_case
 from gsi.dem.contact_log import ContactLog
 from gsi.run import run_case
 
-from gsi.studies.drum import DT, drum_geometry, prepare
+from gsi.errors import GsiInputError
+from gsi.studies.drum import DT, ROLLING_PERIOD, drum_geometry, prepare
 from gsi.extrapolation import Replay, compare_with_dem, period_errors, voronoi_seeds
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -130,6 +131,21 @@ def test_the_quick_drum_is_the_family_at_the_seed_froude_number(ensemble, ens):
         assert m["dem"]["T"].shape == (PERIODS + 1, 640)
     # the members are distinct realisations: their t1 differs
     assert not np.array_equal(members[0]["run"]["log"].x1, members[1]["run"]["log"].x1)
+
+
+def test_the_rolling_family_is_the_seeds_fig12_drum():
+    """The seed's rolling regime (Figs. 11a, 12: 15 s per turn of the 80,000-particle
+    drum) scaled to small drums at its Froude number (benchmarks/drum_sweep.py
+    --reference-period 15)."""
+    big = drum_geometry(80_000, ROLLING_PERIOD)
+    assert big.period == pytest.approx(15.0) and big.regime == "rolling"
+    assert big.froude == pytest.approx((2 * np.pi / 15.0) ** 2 * 0.30 / 9.81, rel=1e-12)
+    small = drum_geometry(640, ROLLING_PERIOD)
+    assert small.radius == drum_geometry(640).radius and small.regime == "rolling"
+    assert small.froude == pytest.approx(big.froude, rel=1e-3)
+    assert small.steps_per_turn == pytest.approx(3 * drum_geometry(640).steps_per_turn, abs=2)
+    with pytest.raises(GsiInputError, match="reference_period"):
+        drum_geometry(640, 0.0)
 
 
 def test_logged_period_replays_the_dems_conduction(ensemble):
