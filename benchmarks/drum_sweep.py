@@ -23,6 +23,7 @@ mean of the members' mean |eq. 10| over the periods), ``eq10se_<p>_<s>``,
 
     python benchmarks/drum_sweep.py [--members 4] [--periods 3] [--periods-turns 0.25,0.5]
         [--samplings 1:10,1:100,10:10,10:100] [--dt-scale 1] [--particles 640]
+        [--reference-period 5] [--twin-periods P]
 
 ``--reference-period 15`` runs the seed's rolling regime (its Figs. 11a and 12: the
 80,000-particle drum at 15 s per turn, Fr = 0.0054) on the drum family's small drum
