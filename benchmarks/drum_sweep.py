@@ -23,6 +23,17 @@ mean of the members' mean |eq. 10| over the periods), ``eq10se_<p>_<s>``,
 
     python benchmarks/drum_sweep.py [--members 4] [--periods 3] [--periods-turns 0.25,0.5]
         [--samplings 1:10,1:100,10:10,10:100] [--dt-scale 1] [--particles 640]
+        [--reference-period 5] [--twin-periods P]
+
+``--reference-period 15`` runs the seed's rolling regime (its Figs. 11a and 12: the
+80,000-particle drum at 15 s per turn, Fr = 0.0054) on the drum family's small drum
+(:func:`gsi.studies.drum.drum_geometry`; 640 particles: 6.708 s per turn); its record is
+kept as ``drum_rolling`` (``benchmarks/record.py drum_rolling -- ...``).  Printed besides,
+per period length and sampling: the excess eps_abs(extrapolation) - 1.5 eps_abs(twin)
+per t_n (mean +- SE; the issue's bound is excess <= 0 at mean + 3 SE) and the relative
+error of the hot/cold gap (the seed's Figs. 7 and 12 plot the hot and cold means);
+last-line keys ``excess_<p>_<s>`` (largest mean + 3 SE of the excess over the t_n, K) and
+``gap_<p>_<s>`` (largest mean of |gap_extra - gap_DEM|/gap_DEM).
 
 ``--dt-scale`` multiplies the DEM step (1.000000000001: the round-off check of the
 ensemble, another set of trajectories).  A member costs, per period length, one spin-up,
@@ -68,14 +79,20 @@ def main(argv=None):
     ap.add_argument("--samplings", default="1:10,1:100,10:10,10:100",
                     help="n:Delta t_c^max in DEM steps, comma separated")
     ap.add_argument("--dt-scale", type=float, default=1.0)
+    ap.add_argument("--twin-periods", type=int, default=None,
+                    help="periods of the twin DEM (default all; fewer: the eps ratios and the "
+                         "excess only at its t_n)")
+    ap.add_argument("--reference-period", type=float, default=None,
+                    help="the 80,000-particle drum's seconds per turn (default the seed's 5, "
+                         "cascading; 15 is its rolling regime, Fig. 12)")
     ap.add_argument("--threads", type=int, default=None)
     args = ap.parse_args(argv)
     import numba
     if args.threads:
         numba.set_num_threads(args.threads)
     from gsi.studies.drum import DT, drum_geometry, prepare
-    from gsi.extrapolation import compare_with_dem
-    g = drum_geometry(args.particles)
+    from gsi.extrapolation import compare_with_dem, energy_transfer_error
+    g = drum_geometry(args.particles, args.reference_period)
     dt = DT * args.dt_scale
     samplings = [tuple(int(a) for a in s.split(":")) for s in args.samplings.split(",")]
     turns = [float(t) for t in args.periods_turns.split(",")]
@@ -88,12 +105,13 @@ def main(argv=None):
     start = sim.state()
     quarter = g.steps_per_turn // 4
     res = {}
-    out = {"particles": g.particles, "members": args.members, "dt_scale": args.dt_scale}
+    out = {"particles": g.particles, "members": args.members, "dt_scale": args.dt_scale,
+           "s_per_turn": g.period, "froude": g.froude, "regime": g.regime}
     for f in turns:
         steps = int(round(f * g.steps_per_turn))
         pname = {0.25: "q", 0.5: "h", 1.0: "f"}.get(f, f"t{f:g}")
-        rows = {s: dict(eq10=[], ext=[], mb=[], n=[], bpc=[]) for s in samplings}
-        twin = []
+        rows = {s: dict(eq10=[], ext=[], mb=[], n=[], bpc=[], gap=[]) for s in samplings}
+        twin, twin_eq10, moved = [], [], []
         for k in range(args.members):
             t = time.perf_counter()
             sim.set_state(start)
@@ -102,22 +120,46 @@ def main(argv=None):
             with tempfile.TemporaryDirectory() as tmp:
                 r = compare_with_dem(
                     sim, period_steps=steps, periods=args.periods, hot=hot, twin=1e-9,
+                    twin_periods=args.twin_periods,
                     samplings=[(n, m * DT * args.dt_scale) for n, m in samplings],
                     log_dir=tmp)
                 for s, run in zip(samplings, r["runs"]):
                     assert run["same_t1"]
                     d = rows[s]
                     d["eq10"].append(run["energy_error"])
-                    d["ext"].append(run["eps_abs"])
+                    d["ext"].append(run["eps_abs"][:len(r["dem"]["twin"]["eps_abs"])])
                     d["mb"].append(run["file_bytes"] / 1e6)
                     d["n"].append(run["log"].n_collisions)
                     d["bpc"].append(run["log"].bytes_per_collision())
+                    h = hot[run["log"].ids]
+                    dem_T = r["dem"]["T"]
+                    gd = dem_T[:, h].mean(1) - dem_T[:, ~h].mean(1)
+                    ge = run["T"][:, h].mean(1) - run["T"][:, ~h].mean(1)
+                    d["gap"].append(np.abs(ge - gd)[1:] / gd[1:])
             twin.append(r["dem"]["twin"]["eps_abs"])
+            D, W = r["dem"]["T"], r["dem"]["twin"]["T"]
+            # eq. 10 of the twin DEM against the DEM: the DEM's own chaos in the heat moved
+            twin_eq10.append([energy_transfer_error(D[n - 1], D[n], W[n - 1], W[n])
+                              for n in range(1, len(W))])
+            # the heat the DEM moves per period, sum |T_n+1 - T_n| (K): eq. 10's denominator
+            moved.append(np.abs(np.diff(D, axis=0)).sum(1))
+            for s_ in samplings:
+                rows[s_].setdefault("moved_ext", []).append(
+                    np.abs(np.diff(r["runs"][samplings.index(s_)]["T"], axis=0)).sum(1))
             print(f"  {f:g} turn, member {k}: {time.perf_counter() - t:.0f} s; eq. 10 "
                   + "; ".join(f"n{n}m{m} " + " ".join(f"{100 * e:+.1f}" for e in
                                                        rows[(n, m)]["eq10"][-1])
                               for n, m in samplings) + " %", flush=True)
         tw_mean = np.mean(twin, 0)
+        te = np.array(twin_eq10)
+        tm, ts = stat(np.abs(te.mean(1)))
+        print(f"  twin DEM's eq. 10 (its heat moved against the DEM's, the chaos floor) per "
+              f"member: " + "; ".join(" ".join(f"{100 * e:+.2f}" for e in row) for row in te)
+              + f" %; |mean over the periods| {100 * tm:.2f} +- {100 * ts:.2f} %; DEM heat "
+              f"moved per period sum |dT| (K) per member: "
+              + "; ".join(" ".join(f"{v:.0f}" for v in row) for row in moved), flush=True)
+        out[f"eq10twin_{pname}"] = float(tm)
+        out[f"eq10twinse_{pname}"] = float(ts)
         print(f"period {f:g} turn ({steps} steps): twin eps_abs "
               + ", ".join(f"{a:.3f}" for a in tw_mean) + " K at t2..", flush=True)
         for n, m in samplings:
@@ -127,6 +169,22 @@ def main(argv=None):
             am, ase = stat(np.abs(e.mean(1)))
             ratio = np.mean(d["ext"], 0) / tw_mean
             mb = float(np.mean(d["mb"]))
+            # eq. 10 pooled over the replay: (sum_n dem_n - sum_n ext_n)/sum_n dem_n, the
+            # periods weighted by the heat the DEM moves in them
+            dm, de = np.array(moved), np.array(d["moved_ext"])
+            pooled = (dm.sum(1) - de.sum(1)) / dm.sum(1)
+            pm, ps = stat(np.abs(pooled))
+            print(f"    eq. 10 per member (t2..): " + "; ".join(
+                " ".join(f"{100 * v:+.2f}" for v in row) for row in e) + " %; pooled over "
+                f"the periods (heat-weighted) per member " + " ".join(
+                f"{100 * v:+.2f}" for v in pooled) + f" %: |pooled| {100 * pm:.2f} +- "
+                f"{100 * ps:.2f} %", flush=True)
+            xm, xs = stat(np.array(d["ext"]) - 1.5 * np.array(twin))
+            gm, gs = stat(d["gap"])
+            print(f"    excess eps_abs - 1.5 twin " + ", ".join(
+                f"{a:+.3f} +- {b:.3f}" for a, b in zip(xm, xs)) + " K; |gap error| "
+                + ", ".join(f"{100 * a:.2f} +- {100 * b:.2f}" for a, b in zip(gm, gs))
+                + " % at t2..", flush=True)
             print(f"  n = {n}, Delta t_c^max = {m} steps ({m * DT:g} s): eq. 10 per period "
                   + ", ".join(f"{100 * a:+.2f} +- {100 * b:.2f}" for a, b in zip(em, es))
                   + f" %; |mean over the periods| {100 * am:.2f} +- {100 * ase:.2f} %; "
@@ -138,7 +196,10 @@ def main(argv=None):
             out.update({f"eq10_{key}": float(am), f"eq10se_{key}": float(ase),
                         f"ratio2_{key}": float(ratio[0]),
                         f"ratio_{key}": float(ratio[1:].max()) if len(ratio) > 1 else
-                        float("nan"), f"mb_{key}": mb})
+                        float("nan"), f"mb_{key}": mb,
+                        f"excess_{key}": float((xm + 3 * xs).max()),
+                        f"gap_{key}": float(gm.max()), f"eq10pooled_{key}": float(pm),
+                        f"eq10pooledse_{key}": float(ps)})
             res[(f, n, m)] = dict(eq10=e, ratio=ratio, mb=mb)
     out["seconds"] = time.perf_counter() - t_all
     out["dt_scale"] = repr(args.dt_scale)         # all digits: 1.000000000001

@@ -6,13 +6,14 @@ import time
 
 import numpy as np
 
+from gsi.errors import GsiInputError
 from gsi.extrapolation.metrics import (cell_error, cell_sampling_level, period_errors,
                                        voronoi_seeds)
 from gsi.extrapolation.replay import Replay
 
 
 def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=None,
-                     cells=200, seed=0, log_dir=None, twin=None, say=None):
+                     cells=200, seed=0, log_dir=None, twin=None, twin_periods=None, say=None):
     """Extrapolate from one logged period of ``sim`` and compare with its own full DEM.
 
     From the state of ``sim`` (t0): for each ``(every, dt_split)`` of ``samplings``, log
@@ -33,7 +34,10 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
     DEMs at each t_{n+1} (``dem["twin"]``: ``eps_abs``, ``eps_level``, and the twin's
     ``T``, ``x`` (periods + 1, N, ...) by log order): the error of a
     prediction as good as the DEM itself, which the flow's chaos alone sets (0 for
-    ``twin = 0``: the DEM is deterministic).
+    ``twin = 0``: the DEM is deterministic).  ``twin_periods`` (default ``periods``): the
+    twin runs only that many periods (its arrays hold ``twin_periods + 1`` entries), so
+    a comparison over more periods than the twin's (eq. 10 over a longer replay) does not
+    pay a second DEM for them.
 
     Returns
     -------
@@ -52,6 +56,10 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
     """
     import pathlib
     say = say or (lambda *a: None)
+    tp = periods if twin_periods is None else twin_periods
+    if not (isinstance(tp, (int, np.integer)) and 1 <= tp <= periods):
+        raise GsiInputError(f"twin_periods = {twin_periods!r}: must be an integer in "
+                            f"1..periods ({periods})")
     state0 = sim.state()
     runs = []
     dem = None
@@ -110,15 +118,15 @@ def compare_with_dem(sim, *, period_steps, periods, samplings=((1, None),), hot=
         sim.set_state(state1)
         rng = np.random.default_rng(seed)
         sim.x[:] += rng.uniform(-twin, twin, sim.x.shape)
-        T_tw, x_tw = _dem_periods(sim, log.ids, period_steps, periods,
-                                  lambda p: say(f"twin DEM: period {p}/{periods}"))
+        T_tw, x_tw = _dem_periods(sim, log.ids, period_steps, tp,
+                                  lambda p: say(f"twin DEM: period {p}/{tp}"))
         dem["twin"] = {
             "amplitude": twin, "T": T_tw, "x": x_tw,
             "eps_abs": np.array([cell_error(seeds, dem["x"][n], dem["T"][n], x_tw[n],
-                                            T_tw[n])[0] for n in range(1, periods + 1)]),
+                                            T_tw[n])[0] for n in range(1, tp + 1)]),
             "eps_level": np.array([cell_sampling_level(seeds, dem["x"][n], dem["T"][n],
                                                        x_tw[n], T_tw[n])
-                                   for n in range(1, periods + 1)])}
+                                   for n in range(1, tp + 1)])}
     return {"dem": dem, "runs": runs, "seeds": seeds}
 
 

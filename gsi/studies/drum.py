@@ -19,7 +19,9 @@ centrifuging; with R = 0.30 m those are Fr = 0.0054 and 121).
 Smaller drums (:func:`drum_geometry`) keep the shape (L = 2 R), the fill and Fr: for N
 particles of the same size, R scales by lambda = (N/80,000)^(1/3) and the period by
 sqrt(lambda) (omega^2 R fixed).  The CI drum, 5,000 particles, is R = 0.1191 m turning
-once in 3.1498 s.
+once in 3.1498 s.  ``drum_geometry(N, reference_period=ROLLING_PERIOD)`` is the family
+of the seed's rolling regime (its Figs. 11a, 12: the 80,000-particle drum at 15 s per
+turn, Fr = 0.0054), scaled the same way (the 640-particle drum: 6.708 s per turn).
 
 Regimes (:func:`regime`) after Mellmann (2001), Powder Technol. 118, 251-270, whose
 ranges overlap; here split at Fr = 1e-4 (slumping/rolling), 1e-2 (rolling/cascading),
@@ -35,7 +37,7 @@ import numpy as np
 from gsi.errors import GsiInputError
 
 __all__ = ["DrumGeometry", "REFERENCE", "drum_geometry", "froude", "regime", "drum_case",
-           "PARTICLE_RADIUS", "DT", "DT_SPLIT", "EVERY", "T_HOT", "T_COLD"]
+           "PARTICLE_RADIUS", "DT", "DT_SPLIT", "EVERY", "T_HOT", "T_COLD", "ROLLING_PERIOD"]
 
 #: particle radius (m), seed 003 Table 3
 PARTICLE_RADIUS = 0.005
@@ -115,15 +117,29 @@ class DrumGeometry:
 REFERENCE = DrumGeometry(particles=80_000, radius=0.30, length=0.60, steps_per_turn=50_000)
 
 
-def drum_geometry(particles: int) -> DrumGeometry:
+#: seconds per turn of the 80,000-particle drum in the seed's rolling regime (its Figs.
+#: 11a and 12; Fr = 0.0054 at R = 0.30 m)
+ROLLING_PERIOD = 15.0
+
+
+def drum_geometry(particles: int, reference_period: float | None = None) -> DrumGeometry:
     """The drum of the family holding ``particles`` spheres of r = 5 mm at the reference
     fill and Froude number (R, L by lambda = (N/80,000)^(1/3), rounded to 0.1 mm; the
     period by sqrt(lambda), rounded to whole DEM steps; Fr within 0.1 % of the
-    reference)."""
+    reference).  ``reference_period`` (s): the 80,000-particle drum's time per turn that
+    sets the Froude number (default the seed's reference, 5 s, cascading;
+    :data:`ROLLING_PERIOD`, 15 s, is its rolling regime)."""
     if not (isinstance(particles, (int, np.integer)) and 50 <= particles <= 2_000_000):
         raise GsiInputError(f"particles = {particles}: must be an integer in [50, 2e6]")
+    turn = REFERENCE.steps_per_turn
+    if reference_period is not None:
+        if not (isinstance(reference_period, (int, float)) and 0.05 <= reference_period <= 1e3):
+            raise GsiInputError(f"reference_period = {reference_period!r}: must be the "
+                                "80,000-particle drum's seconds per turn, in [0.05, 1000] "
+                                "(5 cascading, 15 rolling)")
+        turn = int(round(reference_period / DT))
     lam = (particles / REFERENCE.particles) ** (1.0 / 3.0)
-    steps = int(round(REFERENCE.steps_per_turn * math.sqrt(lam)))
+    steps = int(round(turn * math.sqrt(lam)))
     return DrumGeometry(particles=int(particles), radius=round(REFERENCE.radius * lam, 4),
                         length=round(REFERENCE.length * lam, 4), steps_per_turn=steps)
 

@@ -4,7 +4,7 @@ an ensemble (tests/validation/conftest.py).
 
 Default suite: the quick drum of demos/drum_extrapolation.toml -- 640 particles in
 R = 0.06 m at the reference Froude number 0.048 (cascading), settled 0.5 s, a quarter
-turn of spin-up, and half a turn (11,180 steps) as the period (the seed extrapolates by
+turn of spin-up, and half a turn (11,180 steps) as the period, replayed for four periods (the seed extrapolates by
 quarter, half and full turns, its Figs. 13-15, its reference case by full turns),
 sampling n = 10 with Delta t_c^max = 0.01 s (the seed's 0.001 s, gsi.studies.drum.
 DT_SPLIT, and n = 1 give the same eq. 10 within 0.1 % of the heat moved and the same
@@ -20,7 +20,7 @@ ensembles of M = 4 at dt and at dt (1 + 1e-12), the quarter turn's eps_abs ratio
 twin at t2 is 1.50-1.57 (it had to be asserted at 2 there) and its eq. 10 -6.3 +- 1.0 %
 and -8.2 +- 3.0 %; with half a turn the ratio is 1.14, 1.03 and 1.06, 1.01 at t2, t3 and
 eq. 10 -2.9 +- 1.4 % and -4.2 +- 1.1 % (benchmarks/drum_sweep.py, M = 3: quarter
-5.3 +- 0.3 %, half 2.8 +- 1.1 %). Its cost is about kept: M = 3 members of P = 2 half-turn
+5.3 +- 0.3 %, half 2.8 +- 1.1 %). Its cost was about kept: M = 3 members of P = 2 half-turn
 periods step as many DEM steps as M = 4 of P = 3 quarter turns.
 
 The flow is chaotic: one trajectory is one sample, and a change of summation order gives
@@ -28,10 +28,11 @@ another (the single-run form of this test failed on a faster CPU, its hot/cold g
 0.306 K off against a 0.192 K bound, and on 5 of 6 neighbouring trajectories
 dt x (1 + k 1e-12)). So M = 3 realisations are run: after the settling, member k's
 positions are moved by up to k x 0.5 nm (conftest.perturb), the drum turns a quarter turn
-to t0, one period is logged and extrapolated for P = 2 periods, and the DEM runs on as
+to t0, one period is logged and extrapolated for P = 4 periods, and the DEM runs on as
 the reference. Beside it, the DEM's own chaos is the yardstick (the "twin"): a second DEM
-from t1 with every position moved by up to 1 nm, compared with the reference by the same
-eq. 9 -- the error of a prediction as good as the DEM itself.
+from t1 with every position moved by up to 1 nm, run for two periods (t2, t3) and
+compared with the reference by the same eq. 9 -- the error of a prediction as good as
+the DEM itself.
 
 Checked (claims on the ensemble mean, bound = mean +- 3 SE, conftest):
 
@@ -40,16 +41,22 @@ Checked (claims on the ensemble mean, bound = mean +- 3 SE, conftest):
   DEM and the replay; eq. 9 of the library (k-d tree cells) equal to a brute-force
   nearest-seed computation from the raw fields, and eps_rel = eps_abs/|T_hot - T_cold|
   with T_hot, T_cold from the DEM's raw temperatures;
-- eq. 9: eps_abs(extrapolation) <= 1.5 eps_abs(twin) at every t_n (the issue's bound;
+- eq. 9: eps_abs(extrapolation) <= 1.5 eps_abs(twin) at every t_n of the twin, t2 and
+  t3 (the issue's bound; at t4, t5 too on the 6-member study below: 1.02, 1.04;
   measured, M = 3 at dt and at dt (1 + 1e-12): ratio of the means 1.12, 1.05 and 1.08,
   1.04 at t2, t3; excess eps_abs(extra) - 1.5 eps_abs(twin) -1.32 +- 0.34, -1.59 +-
   0.39 K and -1.45 +- 0.25, -1.62 +- 0.22 K);
 - the hot and cold means (the seed's Fig. 7): the halves do mix, and the extrapolated gap
   T_hot - T_cold is off the DEM's by at most what eq. 10's bound allows: the gap G is the
   heat the halves have exchanged since t1, so moved with a relative error e it is off by
-  e (G1 - Gn), i.e. |gap_ext - gap_dem|/gap_dem <= 0.25 (G1/Gn - 1) with eq. 10's
-  regression bound e = 0.25 and the DEM's own G1/Gn (ensemble mean): 5.5, 15 % at t2, t3
-  with half a turn, capped by the flat 10 % it replaced (2026-12-05), so 5.5, 10 %
+  e (G1 - Gn), i.e. |gap_ext - gap_dem|/gap_dem <= 0.25 (G1/Gn - 1) with e = 0.25
+  (GAP_E: eq. 10's regression bound until eq. 10's 5 % was restored) and the DEM's own
+  G1/Gn (ensemble mean): 5.5, 15 % at t2, t3
+  with half a turn, capped by the flat 10 % it replaced (2026-12-05), so 5.5, 10 % (and
+  10 % at t4, t5 since the replay runs four periods; measured on the 6-member study
+  0.98 +- 0.12, 1.83 +- 0.55, 2.40 +- 0.97, 2.63 +- 1.09 % at t2..t5; the test's, M = 3:
+  0.96 +- 0.35, 2.3 +- 1.1, 3.4 +- 1.7, 2.9 +- 2.1 % at dt and 0.9 +- 0.7, 2.8 +- 0.8,
+  5.0 +- 0.9, 6.6 +- 0.3 % at dt (1 + 1e-12))
   (measured, M = 3: 0.96 +- 0.35,
   2.3 +- 1.1 % and 0.90 +- 0.65, 2.8 +- 0.8 %).  Measured with the quarter
   turn (M = 4, mean +- SE, at dt and at dt (1 + 1e-12)): signed -0.52 +- 0.13, -1.26 +-
@@ -58,12 +65,26 @@ Checked (claims on the ensemble mean, bound = mean +- 3 SE, conftest):
   the same excess as eq. 10's.  The twin DEM's gap differs from the reference's by only
   0.05-0.66 %: the gap error is the method's bias, not the flow's chaos, so the twin is
   no yardstick here; the seed's 5 % carried over the same way is the goal;
-- eq. 10 (heat moved per period): the seed's 5 % per period (its Fig. 10: 0.1-4.5 %) is
-  the goal, met by the ensemble means with half a turn but not at mean + 3 SE (see above:
-  the members' spread is 2-3 %; M = 3: 3.8 +- 1.5 % and 4.7 +- 1.4 %, mean + 3 SE 8.3 and
-  8.8 %), so it is asserted only as a regression bound: 25 % for
-  the ensemble mean + 3 SE of |mean over the periods| (a pairing inverted or left out
-  gives 42 % and 67 %).
+- eq. 10 (heat moved per period), the seed's 5 % (its Fig. 10: 0.1-4.5 %) on the mean
+  over the four replayed periods, |mean over t2..t5|, at ensemble mean + 3 SE (restored
+  2026-12-05; from 2026-12-04 it was a 25 % regression bound on the mean over two periods,
+  which gave 3.8 +- 1.5 % and 4.7 +- 1.4 %, mean + 3 SE 8.3 and 8.8 %). Where that spread
+  came from (benchmarks/drum_sweep.py, M = 6, four half turns, recorded in
+  benchmarks/results/drum_sweep.json): per period -4.4 +- 0.6, -1.6 +- 1.7, +0.2 +- 1.5,
+  +3.0 +- 1.7 % at t2..t5 -- the extrapolation moves more heat than the DEM in the first
+  period and less later (its halves mix faster, so less is left to move) -- and one
+  period of one member scatters by +-4-9 %, while the twin DEM against the DEM scatters
+  by +-0.6-6.0 %: most of a period's scatter is the DEM's own chaos in the heat moved
+  (not the denominator: sum |dT| per period varies by +-3 % between members). Over two
+  periods the same six members give 0.3-5.5 %; over four 1.24 +- 0.38 % (sd 0.92 %),
+  the twin's own 1.09 +- 0.20 %. The test's ensemble (M = 3, SE with the sd floor 1 %):
+  1.36 +- 0.58 % at dt (mean + 3 SE 3.1 %) and 2.98 +- 0.58 % at dt (1 + 1e-12) (mean +
+  3 SE 4.7 %): both within the 5 %, the second with little margin -- on these 9 members
+  the ensemble mean is about 1.8 % with sd about 1.1 %, so a draw of three fails about one
+  time in 20-50 (estimated, not measured); more members would cost 28,000 DEM steps each. What is not claimed: the seed's 5 % for every single period (the first
+  period's -4.4 +- 0.6 % is within it on the mean, not at mean + 3 SE). A pairing
+  inverted or left out gives 42 % and 67 % over two periods.  Cost: two more reference
+  periods per member (the twin stays at two), about +67,000 DEM steps for M = 3.
 
 The seed's Table 5 (80,000 particles, 400 per cell: eps_abs 0.241 ... 0.03 K, eps_rel
 <= 3.1 %) is shown as the goal on the validation page; at 640 particles (3 per cell)
@@ -79,21 +100,29 @@ from gsi.case import load_case
 from gsi.dem.contact_log import ContactLog
 from gsi.run import run_case
 
-from gsi.studies.drum import DT, drum_geometry, prepare
+from gsi.errors import GsiInputError
+from gsi.studies.drum import DT, ROLLING_PERIOD, drum_geometry, prepare
 from gsi.extrapolation import Replay, compare_with_dem, period_errors, voronoi_seeds
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CASE = ROOT / "demos" / "drum_extrapolation.toml"
-M, PERIODS = 3, 2
+M, PERIODS = 3, 4
+#: periods of the twin DEM (t2, t3): eq. 9's yardstick; eq. 10 and the gap use all PERIODS
+TWIN_PERIODS = 2
 #: sd floors (conftest): about the smallest member spreads measured on two ensembles of
 #: the half-turn period (M = 4 at dt and dt (1 + 1e-12), 2026-12-05: sd 0.36-0.58 K,
 #: 0.006-0.018, 0.022-0.028; the quarter-turn's, 2026-12-04: 0.25-0.70 K, 0.005-0.024,
 #: 0.02-0.06)
 SD_EPS_EXCESS = 0.35       # K, eps_abs(extra) - 1.5 eps_abs(twin)
 SD_GAP = 0.006             # relative gap difference
-SD_EQ10 = 0.02             # eq. 10
-#: eq. 10's regression bound (test_heat_moved_per_period_eq10), also the hot/cold gap's
-EQ10_BOUND = 0.25
+SD_EQ10 = 0.01             # eq. 10 over four periods (see EQ10_BOUND)
+#: eq. 10's bound (test_heat_moved_per_period_eq10): the seed's 5 % per period (its
+#: Fig. 10: 0.1-4.5 %), restored 2026-12-05 with the replay of four half turns
+EQ10_BOUND = 0.05
+#: the relative error e of the heat moved that the hot/cold gap's bound carries over
+#: (test_hot_and_cold_means_follow_the_full_dem): the regression value 0.25 eq. 10 had
+#: until 2026-12-05; the seed's 5 % carried the same way is shown as the goal
+GAP_E = 0.25
 
 
 @pytest.fixture(scope="module")
@@ -108,7 +137,8 @@ def ensemble(ens):
         ens.perturb(sim.x, k)
         sim.step(quarter)                                       # spin-up to t0
         r = compare_with_dem(sim, period_steps=2 * quarter, periods=PERIODS,
-                             samplings=((10, 0.01),), hot=hot, twin=1e-9)
+                             samplings=((10, 0.01),), hot=hot, twin=1e-9,
+                             twin_periods=TWIN_PERIODS)
         run, dem = r["runs"][0], r["dem"]
         h = hot[run["log"].ids]
         members.append(dict(
@@ -128,8 +158,28 @@ def test_the_quick_drum_is_the_family_at_the_seed_froude_number(ensemble, ens):
         assert log.n_particles == 640 and (log.every, log.split) == (10, 100)
         assert log.period == pytest.approx(g.steps_per_turn // 4 * 2 * DT * ens.DT_SCALE)
         assert m["dem"]["T"].shape == (PERIODS + 1, 640)
+        assert m["dem"]["twin"]["T"].shape == (TWIN_PERIODS + 1, 640)
+        assert m["dem"]["twin"]["eps_abs"].shape == (TWIN_PERIODS,)
     # the members are distinct realisations: their t1 differs
     assert not np.array_equal(members[0]["run"]["log"].x1, members[1]["run"]["log"].x1)
+
+
+def test_the_rolling_family_is_the_seeds_fig12_drum():
+    """The seed's rolling regime (Figs. 11a, 12: 15 s per turn of the 80,000-particle
+    drum) scaled to small drums at its Froude number (benchmarks/drum_sweep.py
+    --reference-period 15)."""
+    big = drum_geometry(80_000, ROLLING_PERIOD)
+    assert big.period == pytest.approx(15.0) and big.regime == "rolling"
+    assert big.froude == pytest.approx((2 * np.pi / 15.0) ** 2 * 0.30 / 9.81, rel=1e-12)
+    small = drum_geometry(640, ROLLING_PERIOD)
+    assert small.radius == drum_geometry(640).radius and small.regime == "rolling"
+    assert small.froude == pytest.approx(big.froude, rel=1e-3)
+    assert small.steps_per_turn == pytest.approx(3 * drum_geometry(640).steps_per_turn, abs=2)
+    with pytest.raises(GsiInputError, match="reference_period"):
+        drum_geometry(640, 0.0)
+    # a twin longer than the comparison is refused before any DEM runs
+    with pytest.raises(GsiInputError, match="twin_periods"):
+        compare_with_dem(None, period_steps=10, periods=2, twin=1e-9, twin_periods=3)
 
 
 def test_logged_period_replays_the_dems_conduction(ensemble):
@@ -183,7 +233,7 @@ def test_eq9_from_the_raw_fields(ensemble):
 def test_extrapolation_error_within_the_dems_own_chaos(ensemble, ens, record_validation):
     """eps_abs(extrapolation) <= 1.5 eps_abs(twin) at every t_n, on the ensemble."""
     members = ensemble[1]
-    ext = np.array([m["run"]["eps_abs"] for m in members])
+    ext = np.array([m["run"]["eps_abs"][:TWIN_PERIODS] for m in members])
     twin = np.array([m["dem"]["twin"]["eps_abs"] for m in members])
     s = ens.stat(ext - 1.5 * twin, SD_EPS_EXCESS)
     ratio = ext.mean(0) / twin.mean(0)
@@ -211,10 +261,11 @@ def test_hot_and_cold_means_follow_the_full_dem(ensemble, ens, record_validation
     # and G1/Gn the DEM's own mixing (its ensemble mean)
     mixed = (gd[:, :1] / gd[:, 1:]).mean(0) - 1.0
     # ... and never looser than the flat 10 % it replaced (at t3 the carried bound is 15 %)
-    bound = np.minimum(EQ10_BOUND * mixed, 0.10)
+    bound = np.minimum(GAP_E * mixed, 0.10)
     gt = np.array([m["gap_twin"] for m in members])
-    tw = ens.stat(np.abs(gt - gd)[:, 1:] / gd[:, 1:])
-    print(f"|gap_ext - gap_dem|/gap_dem at t2..t4: {s.text()}; bounds {np.round(bound, 4)}; "
+    k = gt.shape[1]
+    tw = ens.stat(np.abs(gt - gd[:, :k])[:, 1:] / gd[:, 1:k])
+    print(f"|gap_ext - gap_dem|/gap_dem at t2..t{PERIODS + 1}: {s.text()}; bounds {np.round(bound, 4)}; "
           f"signed {ens.stat((ge - gd)[:, 1:] / gd[:, 1:]).text()}; twin DEM {tw.text()}; "
           f"gap_dem/gap_dem(t1) at the end {mix.text()}")
     record_validation(f"quick drum (640, half turn, M = {M}): |gap_extra - gap_DEM|/gap_DEM "
@@ -229,18 +280,20 @@ def test_hot_and_cold_means_follow_the_full_dem(ensemble, ens, record_validation
 
 
 def test_heat_moved_per_period_eq10(ensemble, ens, record_validation):
+    """eq. 10 averaged over the four replayed periods, |mean over t2..t5|, on the
+    ensemble: mean + 3 SE <= the seed's 5 % (see the module docstring for why four)."""
     members = ensemble[1]
     e = np.array([m["run"]["energy_error"] for m in members])
     s = ens.stat(np.abs(e.mean(1)), SD_EQ10)
-    print(f"eq. 10 (signed) at t2..t4: {ens.stat(e).text()}; |mean over the periods| "
-          f"{s.text()}")
+    print(f"eq. 10 (signed) at t2..t{PERIODS + 1}: {ens.stat(e).text()}; |mean over the "
+          f"periods| {s.text()}")
     record_validation(f"quick drum (640, half turn, M = {M}): eq. 10, |mean over the "
-                      "periods|, ensemble mean + 3 SE", reference=EQ10_BOUND, measured=float(s.upper()),
-                      tolerance=EQ10_BOUND,
-                      kind="bound", source="seed 003 eq. 10",
-                      goal="seed 003 Fig. 10: 0.1-4.5 % per period (<= 5 %); at 640 "
-                           "particles, half a turn, the ensemble means 3.8-4.7 %, not at "
-                           "mean + 3 SE", note="regression bound; the seed's 5 % is the goal")
+                      f"{PERIODS} periods|, ensemble mean + 3 SE", reference=EQ10_BOUND,
+                      measured=float(s.upper()), tolerance=EQ10_BOUND,
+                      kind="bound", source="seed 003 eq. 10 and Fig. 10",
+                      goal="seed 003 Fig. 10: 0.1-4.5 % per period (<= 5 %); a single period "
+                           "of one member at 640 particles scatters by +-4-9 %",
+                      note="the seed's 5 %, on the mean over four half-turn periods")
     assert s.upper() <= EQ10_BOUND, s.text()
 
 

@@ -26,6 +26,22 @@ contacts' Biot number stays below 0.1. Measured (2026-12-04, M = 5, at dt and at
 dt (1 + 1e-12)): drop 0.43 +- 0.05 and 0.52 +- 0.08 K, gap 84.5 +- 0.3 K, Bi 0.024 +-
 0.001 (mean +- SE). The max principle, the conservation and the
 monotone gap hold on every trajectory and are asserted on every member.
+
+What the spread drop compares, and why its bound is > 0 and not 0.3 K (2026-12-05): the
+drop is spread(0) - spread(0.4 s) = (373.15 K - max T) + (min T - 273.15 K), an extreme
+value: 85-95 % of it is the coldest bed particle's warming (0.07-0.70 K over the
+members), which depends on whether that particle (a bottom corner one) has a warmed
+neighbour by 0.4 s. Measured on 37 members (k = 0..19 at dt, 0..16 at dt (1 + 1e-12),
+3.3 s CPU each): drop 0.391 +- 0.027 K (mean +- SE), sd 0.167 K (0.147 and 0.191 K on
+the two halves), so mean - 3 SE clears 0.3 K only from M ~ 30 (0.30 K at M = 30, 0.31
+K at M = 40, passing there about two times in three), about 100-130 s of CPU per run,
+beyond this suite's budget. The drop averaged over the last quarter or half of the run
+has the same relative spread (sd/mean 0.42), so no cheaper statistic was found. The
+seed itself gives no number for case 5 (its Fig. III.11 shows the "gradual thermal
+diffusion", nothing measured): the 0.3 K is the old single-run test's own bound (final
+spread < 99.7 K), shown on the validation page as the goal; the bound asserted is the
+seed's qualitative claim, the extremes conduct: mean - 3 SE > 0, with the sd floor from
+the 37 members.
 """
 import pathlib
 
@@ -38,8 +54,10 @@ from gsi.case.biot_check import check_biot
 CASE = pathlib.Path(__file__).resolve().parents[2] / "demos" / "graded" / "case5_hot_block.toml"
 M = 5
 #: sd floors (conftest), below the spreads of two 5-member ensembles (at dt and at
-#: dt (1 + 1e-12), 2026-12-04: sd 0.12-0.18 K, 0.56-0.72 K, 0.002)
-SD_DROP, SD_GAP, SD_BIOT = 0.08, 0.3, 0.002
+#: dt (1 + 1e-12), 2026-12-04: sd 0.12-0.18 K, 0.56-0.72 K, 0.002); the drop's from 37
+#: members (2026-12-05: sd 0.147 K of 20 at dt, 0.191 K of 17 at dt (1 + 1e-12); it was
+#: 0.08 K, below the spread the larger ensemble shows)
+SD_DROP, SD_GAP, SD_BIOT = 0.15, 0.3, 0.002
 
 
 @pytest.fixture(scope="module")
@@ -93,7 +111,10 @@ def test_hot_block_on_cold_bed_ensemble(members, ens, record_validation):
     record_validation("seed 001 case 5 (M = 5): spread drop at 0.4 s, mean - 3 SE",
                       reference=0.0, measured=float(s_drop.lower()), tolerance=0.0,
                       kind="bound", unit="K", note="mean - 3 SE > 0 (the extremes conduct)",
-                      source="max principle of the explicit update")
+                      source="max principle of the explicit update; seed 001 Fig. III.11 "
+                             "(gradual diffusion, no number)",
+                      goal="0.3 K (the old single-run bound): 37 members give 0.391 +- "
+                           "0.027 K, sd 0.167 K; mean - 3 SE > 0.3 K needs M ~ 30-40")
     assert s_drop.lower() > 0.0
     assert s_gap.upper() < 90.0                          # measured 86.2 K (one member)
     assert s_bi.upper() < 0.1
