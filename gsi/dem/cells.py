@@ -26,6 +26,26 @@ def grid_for(lo, hi, cell_min, n):
     return dims, dims / ext
 
 
+def particle_grid(x, lo, hi, cell_min):
+    """Cell grid of the neighbour search over the particles' bounding box ``x`` (n, 3)
+    clipped into the domain [``lo``, ``hi``]: ``(grid_lo (3,), dims, inv_cs)`` as
+    :func:`grid_for`.  A dense bed in a large domain (the hopper: 2,000 spheres in a
+    0.9 x 0.9 x 1.3 m box) then gets cells of the cutoff instead of cells widened by
+    :func:`grid_for`'s cap on the count (2.7 times as many candidates to test).  Every
+    particle lies inside its own cell (the triangle bins rely on it); an axis thinner
+    than a cell gets one cell ``cell_min`` wide."""
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    if len(x):
+        g_lo = np.minimum(np.maximum(x.min(axis=0), lo), hi)
+        g_hi = np.minimum(np.maximum(x.max(axis=0), lo), hi)
+    else:
+        g_lo, g_hi = lo, hi
+    g_hi = np.maximum(g_hi, g_lo + max(cell_min, 1e-300))
+    dims, inv_cs = grid_for(g_lo, g_hi, cell_min, len(x))
+    return g_lo, dims, inv_cs
+
+
 @njit
 def cell_index(n, x, lo, inv_cs, dims, cell_of):
     """Cell of each particle (clamped into the grid)."""

@@ -62,12 +62,12 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     x = store.particle["x"][:n]
     r = store.particle["radius"][:n]
     rmax = float(r.max()) if n else 0.0
-    dims, inv_cs = cells.grid_for(lo, hi, 2 * rmax + skin, n)
+    g_lo, dims, inv_cs = cells.particle_grid(x, lo, hi, 2 * rmax + skin)
     cell_of = np.empty(n, np.int64)
-    cells.cell_index(n, x, lo, inv_cs, dims, cell_of)
+    cells.cell_index(n, x, g_lo, inv_cs, dims, cell_of)
     cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
     # slabs along the axis where the particles spread over most cells
-    spread = [np.ptp(np.floor((x[:, d] - lo[d]) * inv_cs[d])) if n else 0 for d in range(3)]
+    spread = [np.ptp(np.floor((x[:, d] - g_lo[d]) * inv_cs[d])) if n else 0 for d in range(3)]
     axis = int(np.argmax(spread))
     small = n < parallel_min_n
     threads = 1 if small else numba.get_num_threads()
@@ -115,8 +115,8 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     else:
         old_of_new = np.full(n, -1, np.int64)
     mc_start, mc_tri, mc_hist = _triangle_candidates(
-        walls.mesh_state, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new, built,
-        serial=threads == 1)
+        walls.mesh_state, x, r, cell_start, cell_list, g_lo, inv_cs, dims, rmax, skin, old,
+        old_of_new, built)
     pairs = Pairs(slab_start, slab_list, nb_start, nb_j, hist, pact, mc_start, mc_tri,
                   mc_hist)
     pl = walls.plane_state
@@ -134,30 +134,16 @@ def _guess(old, field, n):
     return int(1.25 * last) + 64
 
 
-def _triangle_candidates(M, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new,
-                         built, serial=False):
-    """Triangle candidates of each particle, their springs carried over from ``old``
-    (``serial``: one pass on one thread, see :func:`gsi.dem.neighbour.tri_candidates_serial`)."""
+def _triangle_candidates(M, x, r, cell_start, cell_list, lo, inv_cs, dims, rmax, skin, old,
+                         old_of_new, built):
+    """Triangle candidates of each particle (one pass over the triangles on one thread:
+    :func:`gsi.dem.neighbour.near_triangles_by_cell`), their springs carried over from
+    ``old``."""
     n = len(x)
-    mc_start = np.zeros(n + 1, np.int64)
     if not len(M.tri):
-        return mc_start, np.zeros(0, np.int32), np.zeros((0, 3))
-    tstart, tlist = nbr.bin_triangles(M.x, M.tri, lo, inv_cs, dims, rmax + skin)
-    if serial:
-        mc_tri = np.empty(_guess(old, "tri", n), np.int32)
-        ntri = nbr.tri_candidates_serial(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri,
-                                         mc_start, mc_tri)
-        if ntri <= len(mc_tri):
-            mc_tri = mc_tri[:ntri].copy()
-    else:
-        nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start,
-                           np.zeros(0, np.int32), True)
-        np.cumsum(mc_start[1:], out=mc_start[1:])
-        ntri = int(mc_start[-1])
-    if not serial or ntri > len(mc_tri):
-        mc_tri = np.empty(ntri, np.int32)
-        nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start,
-                           mc_tri, False)
+        return np.zeros(n + 1, np.int64), np.zeros(0, np.int32), np.zeros((0, 3))
+    mc_start, mc_tri = nbr.near_triangles_by_cell(x, r, skin, cell_start, cell_list, lo,
+                                                  inv_cs, dims, rmax + skin, M.x, M.tri)
     mc_hist = np.zeros((len(mc_tri), 3))
     if built:
         nbr.carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old.tri_start,
