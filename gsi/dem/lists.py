@@ -85,24 +85,20 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
         slab_of = slab_of[perm]
         cell_list = new_of_old[cell_list].astype(cell_list.dtype)
         slab_list = np.arange(n, dtype=slab_list.dtype)
-    counts = np.empty(n, np.int64)
     nb_start = np.zeros(n + 1, np.int64)
     if threads == 1:
-        # one pass into a list sized from the last build's (a second pass if it is short)
-        nb_j = np.empty(_guess(old, "j", n), np.int32)
-        npair = nbr.find_pairs_serial(n, x, r, skin, cell_of, slab_of, cell_start,
-                                      cell_list, dims, nb_start, nb_j)
-        if npair <= len(nb_j):
-            nb_j = nb_j[:npair].copy()
+        # one pass over half the cell stencil, entries sized from the last build's list
+        nb_j = nbr.find_pairs_serial(n, x, r, skin, cell_of, slab_of, cell_start, cell_list,
+                                     dims, nb_start, _guess(old, "j", n))
     else:
+        counts = np.empty(n, np.int64)
         nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
                        nb_start, np.empty(0, np.int32), False)
         np.cumsum(counts, out=nb_start[1:])
-        npair = int(nb_start[-1])
-    if threads != 1 or npair > len(nb_j):
-        nb_j = np.empty(npair, np.int32)
+        nb_j = np.empty(int(nb_start[-1]), np.int32)
         nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
                        nb_start, nb_j, True)
+    npair = len(nb_j)
     hist = np.zeros((npair, 3))
     pact = np.zeros(npair, np.uint8)
     # new row -> old row through the ids at the last build
@@ -127,8 +123,8 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
 
 
 def _guess(old, field, n):
-    """Length to allocate for a one-pass list: the last build's ``old.<field>`` and a
-    quarter more, or 8 per particle at the first build."""
+    """Entries to allocate for a one-pass list: the last build's ``old.<field>`` and a
+    quarter more, or 8 per particle at the first build (grown if short)."""
     last = len(getattr(old, field)) if old is not None else 0
     last = last if last else 8 * n
     return int(1.25 * last) + 64

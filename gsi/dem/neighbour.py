@@ -75,20 +75,58 @@ def find_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims
 
 @njit
 def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
-                      nb_start, nb_j):
-    """The half list in one serial pass (a small system on one thread: the count pass of
-    :func:`find_pairs` would double the search): the partners of particle i into
-    ``nb_j[nb_start[i]:nb_start[i+1]]``; ``nb_start`` is complete in any case. Returns
-    the number of pairs: when it exceeds ``len(nb_j)``, the list did not fit and
-    ``find_pairs(..., fill=True)`` must fill a longer one (``nb_start`` is right)."""
-    pos = np.int64(0)
-    write = nb_j.shape[0] >= 0          # True, typed as a plain bool (not a literal)
-    for i in range(n):
-        nb_start[i] = pos
-        pos += _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
-                         nb_j, pos, write)
-    nb_start[n] = pos
-    return pos
+                      nb_start, cap):
+    """The half list of :func:`find_pairs` in one serial pass over half the cell stencil
+    (a small system on one thread): each cell meets its own particles after it and the
+    13 cells after it in the walk of :func:`gsi.dem.cells.neighbour_cell`, so every pair
+    within R_i + R_j + skin is tested once (the distance test is symmetric in i and j:
+    the same pairs as :func:`_partners`).  The pair is stored by its particle in the
+    lower slab (ties: the smaller index), through (owner, partner) entries and a stable
+    counting sort by owner (:func:`gsi.dem.cells.bin_cells`); a row lists its partners
+    in the order found, not that of :func:`find_pairs`.  ``cap``: entries to allocate at
+    first (grown by doubling).  Fills ``nb_start`` (n + 1); returns ``nb_j``."""
+    ent_i = np.empty(cap, np.int64)
+    ent_j = np.empty(cap, np.int32)
+    m = 0
+    ncell = cell_start.shape[0] - 1
+    for c in range(ncell):
+        c0 = cell_start[c]
+        c1 = cell_start[c + 1]
+        if c0 == c1:
+            continue
+        cx, cy, cz = cell_coords(c, dims)
+        for k in range(13, 27):          # the cell itself (k = 13) and the 13 after it
+            c2 = neighbour_cell(cx, cy, cz, k, dims)
+            if c2 < 0:
+                continue
+            for p in range(c0, c1):
+                i = cell_list[p]
+                ri = radius[i]
+                for q in range(p + 1 if k == 13 else cell_start[c2], cell_start[c2 + 1]):
+                    j = cell_list[q]
+                    rc = ri + radius[j] + skin
+                    d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
+                          + (x[j, 2] - x[i, 2]) ** 2)
+                    if d2 < rc * rc:
+                        if m == cap:                  # grow the entry buffers
+                            cap *= 2
+                            ni = np.empty(cap, np.int64)
+                            nj = np.empty(cap, np.int32)
+                            ni[:m] = ent_i[:m]
+                            nj[:m] = ent_j[:m]
+                            ent_i, ent_j = ni, nj
+                        si = slab_of[i]
+                        sj = slab_of[j]
+                        if sj > si or (sj == si and j > i):
+                            ent_i[m] = i
+                            ent_j[m] = j
+                        else:
+                            ent_i[m] = j
+                            ent_j[m] = i
+                        m += 1
+    start, order = bin_cells(m, ent_i, n)
+    nb_start[:] = start
+    return ent_j[order]
 
 
 #: particles per slab at least (on average) in a serial run of a small system: a slab
