@@ -62,12 +62,13 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     x = store.particle["x"][:n]
     r = store.particle["radius"][:n]
     rmax = float(r.max()) if n else 0.0
-    g_lo, dims, inv_cs = cells.particle_grid(x, lo, hi, 2 * rmax + skin)
+    b_lo, b_hi = cells.bounding_box(x) if n else (lo, hi)
+    g_lo, dims, inv_cs = cells.particle_grid(b_lo, b_hi, lo, hi, 2 * rmax + skin, n)
     cell_of = np.empty(n, np.int64)
     cells.cell_index(n, x, g_lo, inv_cs, dims, cell_of)
     cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
     # slabs along the axis where the particles spread over most cells
-    spread = [np.ptp(np.floor((x[:, d] - g_lo[d]) * inv_cs[d])) if n else 0 for d in range(3)]
+    spread = np.floor((b_hi - g_lo) * inv_cs) - np.floor((b_lo - g_lo) * inv_cs)
     axis = int(np.argmax(spread))
     small = n < parallel_min_n
     threads = 1 if small else numba.get_num_threads()

@@ -333,7 +333,9 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
     Each triangle visits the cells of its bounding box inflated by ``inflate`` (R_max +
     skin), skips the empty ones and those whose centre lies farther from its plane than
     half a cell diagonal plus ``inflate`` (with the margin of :func:`bin_triangles`), and
-    tests the particles of the rest (a plane test, then the closest point).  A counting
+    tests the particles of the rest (the triangle's bounding box inflated by R_i + skin,
+    with a relative margin of 1e-9 so round-off never drops a candidate; the plane; then
+    the closest point).  A counting
     sort by particle (:func:`gsi.dem.cells.bin_cells`, stable) follows.  No triangle bins
     are built, and a particle meets only the triangles near its own cell's particles;
     every particle must lie inside its cell (:func:`gsi.dem.cells.particle_grid`)."""
@@ -355,12 +357,12 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
         cx_, cy_, cz_ = mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2]
         Nx, Ny, Nz = triangle_normal(ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_)
         N2 = Nx * Nx + Ny * Ny + Nz * Nz
-        k0, k1 = _span(min(ax_, bx_, cx_), max(ax_, bx_, cx_), inflate, lo[0], inv_cs[0],
-                       dims[0])
-        l0, l1 = _span(min(ay_, by_, cy_), max(ay_, by_, cy_), inflate, lo[1], inv_cs[1],
-                       dims[1])
-        m0, m1 = _span(min(az_, bz_, cz_), max(az_, bz_, cz_), inflate, lo[2], inv_cs[2],
-                       dims[2])
+        x_lo, x_hi = min(ax_, bx_, cx_), max(ax_, bx_, cx_)
+        y_lo, y_hi = min(ay_, by_, cy_), max(ay_, by_, cy_)
+        z_lo, z_hi = min(az_, bz_, cz_), max(az_, bz_, cz_)
+        k0, k1 = _span(x_lo, x_hi, inflate, lo[0], inv_cs[0], dims[0])
+        l0, l1 = _span(y_lo, y_hi, inflate, lo[1], inv_cs[1], dims[1])
+        m0, m1 = _span(z_lo, z_hi, inflate, lo[2], inv_cs[2], dims[2])
         for kx in range(k0, k1 + 1):
             px = lo[0] + (kx + 0.5) * cs[0]
             for ky in range(l0, l1 + 1):
@@ -376,6 +378,11 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
                     for q in range(cell_start[c], cell_start[c + 1]):
                         i = cell_list[q]
                         rc = radius[i] + skin
+                        rb = rc * (1.0 + 1e-9)        # the box test never drops a candidate
+                        if (x[i, 0] < x_lo - rb or x[i, 0] > x_hi + rb
+                                or x[i, 1] < y_lo - rb or x[i, 1] > y_hi + rb
+                                or x[i, 2] < z_lo - rb or x[i, 2] > z_hi + rb):
+                            continue
                         rc2 = rc * rc
                         h = ((x[i, 0] - ax_) * Nx + (x[i, 1] - ay_) * Ny
                              + (x[i, 2] - az_) * Nz)

@@ -218,7 +218,7 @@ def test_one_pass_serial_lists_equal_the_two_pass_parallel_ones(short):
     x, r = random_fill(Box((0, 0, 0), (L, L, L)), 1e-3, count=400, rng=rng)
     r = r * rng.uniform(0.7, 1.0, len(r))
     n = len(x)
-    g_lo, dims, inv_cs = cells.particle_grid(x, lo, hi, 2 * r.max() + skin)
+    g_lo, dims, inv_cs = cells.particle_grid(*cells.bounding_box(x), lo, hi, 2 * r.max() + skin, n)
     assert dims.prod() > 27                       # more than one stencil
     cell_of = np.empty(n, np.int64)
     cells.cell_index(n, x, g_lo, inv_cs, dims, cell_of)
@@ -272,7 +272,7 @@ def test_triangle_candidates_are_exactly_the_triangles_within_reach(grid):
     vx = np.vstack([vx, extra])
     cut = 2 * r.max() + skin
     if grid == "particles":
-        g_lo, dims, inv_cs = cells.particle_grid(x, lo, hi, cut)
+        g_lo, dims, inv_cs = cells.particle_grid(*cells.bounding_box(x), lo, hi, cut, n)
     else:
         g_lo, (dims, inv_cs) = lo, cells.grid_for(lo, hi, cut, n)
     cell_of = np.empty(n, np.int64)
