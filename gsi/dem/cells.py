@@ -36,8 +36,8 @@ def particle_grid(b_lo, b_hi, lo, hi, cell_min, n):
     relies on it); an axis thinner than a cell gets one cell ``cell_min`` wide."""
     lo = np.asarray(lo, float)
     hi = np.asarray(hi, float)
-    g_lo = np.minimum(np.maximum(b_lo, lo), hi)
-    g_hi = np.maximum(np.minimum(np.maximum(b_hi, lo), hi), g_lo + max(cell_min, 1e-300))
+    g_lo = np.fmin(np.fmax(b_lo, lo), hi)          # fmax, fmin: a NaN gives the domain's
+    g_hi = np.fmax(np.fmin(np.fmax(b_hi, lo), hi), g_lo + max(cell_min, 1e-300))
     dims, inv_cs = grid_for(g_lo, g_hi, cell_min, n)
     return g_lo, dims, inv_cs
 

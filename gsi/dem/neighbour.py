@@ -83,7 +83,7 @@ def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_lis
     the same pairs as :func:`_partners`).  The pair is stored by its particle in the
     lower slab (ties: the smaller index), through (owner, partner) entries and a stable
     counting sort by owner (:func:`gsi.dem.cells.bin_cells`); a row lists its partners
-    in the order found, not that of :func:`find_pairs`.  ``cap``: entries to allocate at
+    in the order found (:func:`sort_rows` orders them).  ``cap``: entries to allocate at
     first (grown by doubling).  Fills ``nb_start`` (n + 1); returns ``nb_j``."""
     ent_i = np.empty(cap, np.int64)
     ent_j = np.empty(cap, np.int32)
@@ -127,6 +127,22 @@ def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_lis
     start, order = bin_cells(m, ent_i, n)
     nb_start[:] = start
     return ent_j[order]
+
+
+@pjit
+def sort_rows(start, j):
+    """Each row ``j[start[i]:start[i+1]]`` into ascending order (insertion sort: a row
+    holds a few partners), so that the half list does not depend on how it was found
+    (:func:`find_pairs_serial` or :func:`find_pairs`, the cell grid): the force pass then
+    sums each particle's contacts in one order whatever the thread count."""
+    for i in prange(start.shape[0] - 1):
+        for k in range(start[i] + 1, start[i + 1]):
+            v = j[k]
+            m = k - 1
+            while m >= start[i] and j[m] > v:
+                j[m + 1] = j[m]
+                m -= 1
+            j[m + 1] = v
 
 
 #: particles per slab at least (on average) in a serial run of a small system: a slab
