@@ -26,6 +26,35 @@ def grid_for(lo, hi, cell_min, n):
     return dims, dims / ext
 
 
+def particle_grid(b_lo, b_hi, lo, hi, cell_min, n):
+    """Cell grid of the neighbour search over the bounding box [``b_lo``, ``b_hi``] of n
+    particles (:func:`bounding_box`) clipped into the domain [``lo``, ``hi``]:
+    ``(grid_lo (3,), dims, inv_cs)`` as :func:`grid_for`.  A dense bed in a large domain
+    (the hopper: 2,000 spheres in a 0.9 x 0.9 x 1.3 m box) then gets cells of the cutoff
+    instead of cells widened by :func:`grid_for`'s cap on the count (2.7 times as many
+    candidates to test).  Every particle lies inside its own cell (the triangle search
+    relies on it); an axis thinner than a cell gets one cell ``cell_min`` wide."""
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    g_lo = np.fmin(np.fmax(b_lo, lo), hi)          # fmax, fmin: a NaN gives the domain's
+    g_hi = np.fmax(np.fmin(np.fmax(b_hi, lo), hi), g_lo + max(cell_min, 1e-300))
+    dims, inv_cs = grid_for(g_lo, g_hi, cell_min, n)
+    return g_lo, dims, inv_cs
+
+
+@njit
+def bounding_box(x):
+    """Lowest and highest coordinates of the points ``x`` (n >= 1, 3): two arrays (3,)
+    (numpy's reductions along axis 0 of an (n, 3) array cost ten times more)."""
+    b_lo = x[0].copy()
+    b_hi = x[0].copy()
+    for i in range(1, x.shape[0]):
+        for d in range(3):
+            b_lo[d] = min(b_lo[d], x[i, d])
+            b_hi[d] = max(b_hi[d], x[i, d])
+    return b_lo, b_hi
+
+
 @njit
 def cell_index(n, x, lo, inv_cs, dims, cell_of):
     """Cell of each particle (clamped into the grid)."""

@@ -31,6 +31,14 @@ from gsi.dem.storage import rows_of
 #: steps between list builds that the adaptive skin aims at (:func:`adaptive_skin`)
 STEPS_PER_BUILD = 10
 
+#: particles up to which two threads search the pairs in the one serial pass over half
+#: the stencil (:func:`gsi.dem.neighbour.find_pairs_serial`) rather than in two parallel
+#: passes over the whole stencil (count, fill): on lattice beds of 2,197 / 4,096 / 8,000
+#: spheres the serial pass took 0.59 / 1.18 / 1.84 ms, the two passes 1.41 / 2.63 /
+#: 3.01 ms on one thread (0.71 / 1.32 / 1.51 ms at best on two); and a serial pass never
+#: waits at a barrier for a descheduled thread on a busy host
+SERIAL_PAIRS_MAX_N = 4096
+
 
 def adaptive_skin(skin, skin_max, dt, *velocities):
     """The skin of the next lists (m): ``skin`` if ``skin_max <= skin`` (fixed), else
@@ -62,12 +70,13 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     x = store.particle["x"][:n]
     r = store.particle["radius"][:n]
     rmax = float(r.max()) if n else 0.0
-    dims, inv_cs = cells.grid_for(lo, hi, 2 * rmax + skin, n)
+    b_lo, b_hi = cells.bounding_box(x) if n else (lo, hi)
+    g_lo, dims, inv_cs = cells.particle_grid(b_lo, b_hi, lo, hi, 2 * rmax + skin, n)
     cell_of = np.empty(n, np.int64)
-    cells.cell_index(n, x, lo, inv_cs, dims, cell_of)
+    cells.cell_index(n, x, g_lo, inv_cs, dims, cell_of)
     cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
     # slabs along the axis where the particles spread over most cells
-    spread = [np.ptp(np.floor((x[:, d] - lo[d]) * inv_cs[d])) if n else 0 for d in range(3)]
+    spread = np.floor((b_hi - g_lo) * inv_cs) - np.floor((b_lo - g_lo) * inv_cs)
     axis = int(np.argmax(spread))
     small = n < parallel_min_n
     threads = 1 if small else numba.get_num_threads()
@@ -85,24 +94,21 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
         slab_of = slab_of[perm]
         cell_list = new_of_old[cell_list].astype(cell_list.dtype)
         slab_list = np.arange(n, dtype=slab_list.dtype)
-    counts = np.empty(n, np.int64)
     nb_start = np.zeros(n + 1, np.int64)
-    if threads == 1:
-        # one pass into a list sized from the last build's (a second pass if it is short)
-        nb_j = np.empty(_guess(old, "j", n), np.int32)
-        npair = nbr.find_pairs_serial(n, x, r, skin, cell_of, slab_of, cell_start,
-                                      cell_list, dims, nb_start, nb_j)
-        if npair <= len(nb_j):
-            nb_j = nb_j[:npair].copy()
+    if threads == 1 or (threads == 2 and n <= SERIAL_PAIRS_MAX_N):
+        # one pass over half the cell stencil, entries sized from the last build's list
+        nb_j = nbr.find_pairs_serial(n, x, r, skin, cell_of, slab_of, cell_start, cell_list,
+                                     dims, nb_start, _guess(old, "j", n))
     else:
+        counts = np.empty(n, np.int64)
         nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
                        nb_start, np.empty(0, np.int32), False)
         np.cumsum(counts, out=nb_start[1:])
-        npair = int(nb_start[-1])
-    if threads != 1 or npair > len(nb_j):
-        nb_j = np.empty(npair, np.int32)
+        nb_j = np.empty(int(nb_start[-1]), np.int32)
         nbr.find_pairs(n, x, r, skin, cell_of, slab_of, cell_start, cell_list, dims, counts,
                        nb_start, nb_j, True)
+    nbr.sort_rows(nb_start, nb_j)         # ascending partners: one list for any search
+    npair = len(nb_j)
     hist = np.zeros((npair, 3))
     pact = np.zeros(npair, np.uint8)
     # new row -> old row through the ids at the last build
@@ -115,8 +121,8 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     else:
         old_of_new = np.full(n, -1, np.int64)
     mc_start, mc_tri, mc_hist = _triangle_candidates(
-        walls.mesh_state, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new, built,
-        serial=threads == 1)
+        walls.mesh_state, x, r, cell_start, cell_list, g_lo, inv_cs, dims, rmax, skin, old,
+        old_of_new, built)
     pairs = Pairs(slab_start, slab_list, nb_start, nb_j, hist, pact, mc_start, mc_tri,
                   mc_hist)
     pl = walls.plane_state
@@ -127,37 +133,23 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
 
 
 def _guess(old, field, n):
-    """Length to allocate for a one-pass list: the last build's ``old.<field>`` and a
-    quarter more, or 8 per particle at the first build."""
+    """Entries to allocate for a one-pass list: the last build's ``old.<field>`` and a
+    quarter more, or 8 per particle at the first build (grown if short)."""
     last = len(getattr(old, field)) if old is not None else 0
     last = last if last else 8 * n
     return int(1.25 * last) + 64
 
 
-def _triangle_candidates(M, x, r, cell_of, lo, inv_cs, dims, rmax, skin, old, old_of_new,
-                         built, serial=False):
-    """Triangle candidates of each particle, their springs carried over from ``old``
-    (``serial``: one pass on one thread, see :func:`gsi.dem.neighbour.tri_candidates_serial`)."""
+def _triangle_candidates(M, x, r, cell_start, cell_list, lo, inv_cs, dims, rmax, skin, old,
+                         old_of_new, built):
+    """Triangle candidates of each particle (one pass over the triangles on one thread:
+    :func:`gsi.dem.neighbour.near_triangles_by_cell`), their springs carried over from
+    ``old``."""
     n = len(x)
-    mc_start = np.zeros(n + 1, np.int64)
     if not len(M.tri):
-        return mc_start, np.zeros(0, np.int32), np.zeros((0, 3))
-    tstart, tlist = nbr.bin_triangles(M.x, M.tri, lo, inv_cs, dims, rmax + skin)
-    if serial:
-        mc_tri = np.empty(_guess(old, "tri", n), np.int32)
-        ntri = nbr.tri_candidates_serial(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri,
-                                         mc_start, mc_tri)
-        if ntri <= len(mc_tri):
-            mc_tri = mc_tri[:ntri].copy()
-    else:
-        nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start,
-                           np.zeros(0, np.int32), True)
-        np.cumsum(mc_start[1:], out=mc_start[1:])
-        ntri = int(mc_start[-1])
-    if not serial or ntri > len(mc_tri):
-        mc_tri = np.empty(ntri, np.int32)
-        nbr.tri_candidates(n, x, r, skin, cell_of, tstart, tlist, M.x, M.tri, mc_start,
-                           mc_tri, False)
+        return np.zeros(n + 1, np.int64), np.zeros(0, np.int32), np.zeros((0, 3))
+    mc_start, mc_tri = nbr.near_triangles_by_cell(x, r, skin, cell_start, cell_list, lo,
+                                                  inv_cs, dims, rmax + skin, M.x, M.tri)
     mc_hist = np.zeros((len(mc_tri), 3))
     if built:
         nbr.carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old.tri_start,

@@ -16,8 +16,10 @@
   other way round).
 - Plane candidates: the planes within R_i + skin of particle i (a bit mask); planes
   moving more than skin/2 since the build also trigger a rebuild.
-- Triangle candidates: triangles are binned into the cells near them (inflated by
-  R_max + skin); particle i keeps the triangles of its cell closer than R_i + skin.
+- Triangle candidates: the triangles closer than R_i + skin to particle i, found by
+  each triangle among the particles of the cells near it (:func:`near_triangles_by_cell`).
+  Triangle bins (each cell's triangles, :func:`bin_triangles`) serve the radiation's
+  view search.
 """
 import math
 
@@ -73,20 +75,74 @@ def find_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims
 
 @njit
 def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
-                      nb_start, nb_j):
-    """The half list in one serial pass (a small system on one thread: the count pass of
-    :func:`find_pairs` would double the search): the partners of particle i into
-    ``nb_j[nb_start[i]:nb_start[i+1]]``; ``nb_start`` is complete in any case. Returns
-    the number of pairs: when it exceeds ``len(nb_j)``, the list did not fit and
-    ``find_pairs(..., fill=True)`` must fill a longer one (``nb_start`` is right)."""
-    pos = np.int64(0)
-    write = nb_j.shape[0] >= 0          # True, typed as a plain bool (not a literal)
-    for i in range(n):
-        nb_start[i] = pos
-        pos += _partners(i, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
-                         nb_j, pos, write)
-    nb_start[n] = pos
-    return pos
+                      nb_start, cap):
+    """The half list of :func:`find_pairs` in one serial pass over half the cell stencil
+    (a small system on one thread): each cell meets its own particles after it and the
+    13 cells after it in the walk of :func:`gsi.dem.cells.neighbour_cell`, so every pair
+    within R_i + R_j + skin is tested once (the distance test is symmetric in i and j:
+    the same pairs as :func:`_partners`).  The pair is stored by its particle in the
+    lower slab (ties: the smaller index), through (owner, partner) entries and a stable
+    counting sort by owner (:func:`gsi.dem.cells.bin_cells`); a row lists its partners
+    in the order found (:func:`sort_rows` orders them).  ``cap``: entries to allocate at
+    first (grown by doubling).  Fills ``nb_start`` (n + 1); returns ``nb_j``."""
+    ent_i = np.empty(cap, np.int64)
+    ent_j = np.empty(cap, np.int32)
+    m = 0
+    ncell = cell_start.shape[0] - 1
+    for c in range(ncell):
+        c0 = cell_start[c]
+        c1 = cell_start[c + 1]
+        if c0 == c1:
+            continue
+        cx, cy, cz = cell_coords(c, dims)
+        for k in range(13, 27):          # the cell itself (k = 13) and the 13 after it
+            c2 = neighbour_cell(cx, cy, cz, k, dims)
+            if c2 < 0:
+                continue
+            for p in range(c0, c1):
+                i = cell_list[p]
+                ri = radius[i]
+                for q in range(p + 1 if k == 13 else cell_start[c2], cell_start[c2 + 1]):
+                    j = cell_list[q]
+                    rc = ri + radius[j] + skin
+                    d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
+                          + (x[j, 2] - x[i, 2]) ** 2)
+                    if d2 < rc * rc:
+                        if m == cap:                  # grow the entry buffers
+                            cap *= 2
+                            ni = np.empty(cap, np.int64)
+                            nj = np.empty(cap, np.int32)
+                            ni[:m] = ent_i[:m]
+                            nj[:m] = ent_j[:m]
+                            ent_i, ent_j = ni, nj
+                        si = slab_of[i]
+                        sj = slab_of[j]
+                        if sj > si or (sj == si and j > i):
+                            ent_i[m] = i
+                            ent_j[m] = j
+                        else:
+                            ent_i[m] = j
+                            ent_j[m] = i
+                        m += 1
+    start, order = bin_cells(m, ent_i, n)
+    nb_start[:] = start
+    return ent_j[order]
+
+
+@pjit
+def sort_rows(start, j):
+    """Each row ``j[start[i]:start[i+1]]`` into ascending order (insertion sort: a row
+    holds a few partners), so that the half list does not depend on how it was found
+    (:func:`find_pairs_serial` or :func:`find_pairs`, the cell grid): the force pass then
+    sums each particle's contacts in one order whatever the thread count."""
+    for i in prange(start.shape[0] - 1):
+        for k in range(start[i] + 1, start[i + 1]):
+            v = j[k]
+            m = k - 1
+            while m >= start[i] and j[m] > v:
+                j[m + 1] = j[m]
+                m -= 1
+            j[m + 1] = v
 
 
 #: particles per slab at least (on average) in a serial run of a small system: a slab
@@ -263,75 +319,6 @@ def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
     return counts, ent_tri[order]
 
 
-@njit
-def _near_triangles(i, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt, out, pos,
-                    write):
-    """The triangles closer than R_i + skin to particle i: their number, and with
-    ``write`` each written to ``out[pos], out[pos + 1], ...`` while that lies inside
-    ``out`` (the count goes on past its end).
-
-    A triangle whose plane is already that far from the centre is rejected before its
-    closest point is sought (the bins hold many such: a cell lists every triangle
-    within half a cell diagonal plus the reach of its centre)."""
-    cap = out.shape[0]
-    c = cell_of[i]
-    rc = radius[i] + skin
-    rc2 = rc * rc
-    cnt = 0
-    for m in range(tcell_start[c], tcell_start[c + 1]):
-        t = tcell_list[m]
-        a = mt[t, 0]
-        b = mt[t, 1]
-        c_ = mt[t, 2]
-        # plane test: ((x - a).N)^2 >= rc^2 |N|^2, N = (b - a) x (c - a)
-        Nx, Ny, Nz = triangle_normal(mv_x[a, 0], mv_x[a, 1], mv_x[a, 2], mv_x[b, 0],
-                                     mv_x[b, 1], mv_x[b, 2], mv_x[c_, 0], mv_x[c_, 1],
-                                     mv_x[c_, 2])
-        h = ((x[i, 0] - mv_x[a, 0]) * Nx + (x[i, 1] - mv_x[a, 1]) * Ny
-             + (x[i, 2] - mv_x[a, 2]) * Nz)
-        if h * h >= rc2 * (Nx * Nx + Ny * Ny + Nz * Nz):
-            continue
-        qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
-            x[i, 0], x[i, 1], x[i, 2], mv_x[a, 0], mv_x[a, 1], mv_x[a, 2],
-            mv_x[b, 0], mv_x[b, 1], mv_x[b, 2], mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2])
-        d2 = (qx - x[i, 0]) ** 2 + (qy - x[i, 1]) ** 2 + (qz - x[i, 2]) ** 2
-        if d2 < rc2:
-            if write and pos + cnt < cap:
-                out[pos + cnt] = t
-            cnt += 1
-    return cnt
-
-
-@pjit
-def tri_candidates(n, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt,
-                   mc_start, mc_tri, count_only):
-    """Triangles closer than R_i + skin to particle i (:func:`_near_triangles`): their
-    number into ``mc_start[i + 1]`` (``count_only``), or the triangles into
-    ``mc_tri[mc_start[i]:mc_start[i+1]]``."""
-    for i in prange(n):
-        cnt = _near_triangles(i, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x,
-                              mt, mc_tri, mc_start[i] if not count_only else mc_start[0],
-                              not count_only)
-        if count_only:
-            mc_start[i + 1] = cnt
-
-
-@njit
-def tri_candidates_serial(n, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x, mt,
-                          mc_start, mc_tri):
-    """:func:`tri_candidates` in one serial pass (see :func:`find_pairs_serial`): returns
-    the number of candidates; more than ``len(mc_tri)``: fill a longer list with
-    ``tri_candidates(..., count_only=False)`` (``mc_start`` is right)."""
-    pos = np.int64(0)
-    write = mc_tri.shape[0] >= 0
-    for i in range(n):
-        mc_start[i] = pos
-        pos += _near_triangles(i, x, radius, skin, cell_of, tcell_start, tcell_list, mv_x,
-                               mt, mc_tri, pos, write)
-    mc_start[n] = pos
-    return pos
-
-
 @pjit
 def carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old_start, old_tri,
                       old_hist):
@@ -349,3 +336,89 @@ def carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old_start, old_t
                     mc_hist[k, 1] = old_hist[ko, 1]
                     mc_hist[k, 2] = old_hist[ko, 2]
                     break
+
+
+@njit
+def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, dims, inflate,
+                           mv_x, mt):
+    """The triangle candidates of every particle in one pass over the triangles: triangle t
+    is a candidate of particle i when it lies closer than R_i + skin (the test of
+    :func:`_near_triangles`, so the same sets).  Returns ``(mc_start (n+1), mc_tri)``,
+    each particle's triangles in ascending order (the lists of :func:`tri_candidates`).
+
+    Each triangle visits the cells of its bounding box inflated by ``inflate`` (R_max +
+    skin), skips the empty ones and those whose centre lies farther from its plane than
+    half a cell diagonal plus ``inflate`` (with the margin of :func:`bin_triangles`), and
+    tests the particles of the rest (the triangle's bounding box inflated by R_i + skin,
+    with a relative margin of 1e-9 so round-off never drops a candidate; the plane; then
+    the closest point).  A counting
+    sort by particle (:func:`gsi.dem.cells.bin_cells`, stable) follows.  No triangle bins
+    are built, and a particle meets only the triangles near its own cell's particles;
+    every particle must lie inside its cell (:func:`gsi.dem.cells.particle_grid`)."""
+    n = x.shape[0]
+    nt = mt.shape[0]
+    cs = 1.0 / inv_cs
+    half_diag = 0.5 * math.sqrt(cs[0] ** 2 + cs[1] ** 2 + cs[2] ** 2)
+    plane_reach2 = (half_diag + inflate) ** 2 * (1.0 + 1e-9)
+    cap = 4 * n + 64
+    ent_i = np.empty(cap, np.int64)
+    ent_t = np.empty(cap, np.int32)
+    m = 0
+    for t in range(nt):
+        a = mt[t, 0]
+        b = mt[t, 1]
+        c_ = mt[t, 2]
+        ax_, ay_, az_ = mv_x[a, 0], mv_x[a, 1], mv_x[a, 2]
+        bx_, by_, bz_ = mv_x[b, 0], mv_x[b, 1], mv_x[b, 2]
+        cx_, cy_, cz_ = mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2]
+        Nx, Ny, Nz = triangle_normal(ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_)
+        N2 = Nx * Nx + Ny * Ny + Nz * Nz
+        x_lo, x_hi = min(ax_, bx_, cx_), max(ax_, bx_, cx_)
+        y_lo, y_hi = min(ay_, by_, cy_), max(ay_, by_, cy_)
+        z_lo, z_hi = min(az_, bz_, cz_), max(az_, bz_, cz_)
+        k0, k1 = _span(x_lo, x_hi, inflate, lo[0], inv_cs[0], dims[0])
+        l0, l1 = _span(y_lo, y_hi, inflate, lo[1], inv_cs[1], dims[1])
+        m0, m1 = _span(z_lo, z_hi, inflate, lo[2], inv_cs[2], dims[2])
+        for kx in range(k0, k1 + 1):
+            px = lo[0] + (kx + 0.5) * cs[0]
+            for ky in range(l0, l1 + 1):
+                py = lo[1] + (ky + 0.5) * cs[1]
+                for kz in range(m0, m1 + 1):
+                    c = (kx * dims[1] + ky) * dims[2] + kz
+                    if cell_start[c] == cell_start[c + 1]:
+                        continue
+                    pz = lo[2] + (kz + 0.5) * cs[2]
+                    h = (px - ax_) * Nx + (py - ay_) * Ny + (pz - az_) * Nz
+                    if h * h > plane_reach2 * N2:
+                        continue
+                    for q in range(cell_start[c], cell_start[c + 1]):
+                        i = cell_list[q]
+                        rc = radius[i] + skin
+                        rb = rc * (1.0 + 1e-9)        # the box test never drops a candidate
+                        if (x[i, 0] < x_lo - rb or x[i, 0] > x_hi + rb
+                                or x[i, 1] < y_lo - rb or x[i, 1] > y_hi + rb
+                                or x[i, 2] < z_lo - rb or x[i, 2] > z_hi + rb):
+                            continue
+                        rc2 = rc * rc
+                        h = ((x[i, 0] - ax_) * Nx + (x[i, 1] - ay_) * Ny
+                             + (x[i, 2] - az_) * Nz)
+                        if h * h >= rc2 * N2:
+                            continue
+                        qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
+                            x[i, 0], x[i, 1], x[i, 2], ax_, ay_, az_, bx_, by_, bz_,
+                            cx_, cy_, cz_)
+                        d2 = (qx - x[i, 0]) ** 2 + (qy - x[i, 1]) ** 2 + (qz - x[i, 2]) ** 2
+                        if not d2 < rc2:
+                            continue
+                        if m == cap:                  # grow the entry buffers
+                            cap *= 2
+                            ni = np.empty(cap, np.int64)
+                            ntr = np.empty(cap, np.int32)
+                            ni[:m] = ent_i[:m]
+                            ntr[:m] = ent_t[:m]
+                            ent_i, ent_t = ni, ntr
+                        ent_i[m] = i
+                        ent_t[m] = t
+                        m += 1
+    mc_start, order = bin_cells(m, ent_i, n)      # stable: ascending triangles per particle
+    return mc_start, ent_t[order]

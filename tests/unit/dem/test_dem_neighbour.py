@@ -207,11 +207,11 @@ def test_plane_moving_onto_particles_is_seen():
 
 @pytest.mark.parametrize("short", [False, True])
 def test_one_pass_serial_lists_equal_the_two_pass_parallel_ones(short):
-    """A small system on one thread builds its pair and triangle lists in one pass
-    (:func:`gsi.dem.neighbour.find_pairs_serial`, ``tri_candidates_serial``) into arrays
-    sized from the last build; they equal the two-pass lists entry by entry, also when
-    the guessed array is too short (``short``: the count is complete and a fill pass
-    writes a longer list)."""
+    """A small system on one thread builds its pair list in one pass over half the cell
+    stencil (:func:`gsi.dem.neighbour.find_pairs_serial`, entries sized from the last
+    build); each row holds the same partners as the two-pass list, the same list entry
+    by entry once the rows are sorted (``sort_rows``, as the lists do), also when the
+    first guess is too short (``short``: the entries grow)."""
     from gsi.dem import cells, neighbour as nbr
     rng = np.random.default_rng(3)
     L, skin = 0.02, 1.5e-3
@@ -219,9 +219,10 @@ def test_one_pass_serial_lists_equal_the_two_pass_parallel_ones(short):
     x, r = random_fill(Box((0, 0, 0), (L, L, L)), 1e-3, count=400, rng=rng)
     r = r * rng.uniform(0.7, 1.0, len(r))
     n = len(x)
-    dims, inv_cs = cells.grid_for(lo, hi, 2 * r.max() + skin, n)
+    g_lo, dims, inv_cs = cells.particle_grid(*cells.bounding_box(x), lo, hi, 2 * r.max() + skin, n)
+    assert dims.prod() > 27                       # more than one stencil
     cell_of = np.empty(n, np.int64)
-    cells.cell_index(n, x, lo, inv_cs, dims, cell_of)
+    cells.cell_index(n, x, g_lo, inv_cs, dims, cell_of)
     cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
     slab_of, _, _ = nbr.slab_sort(n, x, cell_list, 2, *nbr.slab_layout(x[:, 2], 3e-3, 1))
     counts, two_start = np.empty(n, np.int64), np.zeros(n + 1, np.int64)
@@ -232,16 +233,17 @@ def test_one_pass_serial_lists_equal_the_two_pass_parallel_ones(short):
     nbr.find_pairs(*args, counts, two_start, two_j, True)
     assert len(two_j) > 500
     one_start = np.zeros(n + 1, np.int64)
-    one_j = np.full(len(two_j) // 2 if short else len(two_j) + 10, -1, np.int32)
-    npair = nbr.find_pairs_serial(*args, one_start, one_j)
-    assert npair == len(two_j)
+    one_j = nbr.find_pairs_serial(*args, one_start, 7 if short else len(two_j) + 10)
     np.testing.assert_array_equal(one_start, two_start)
-    if short:                        # written up to the end of the short array only
-        np.testing.assert_array_equal(one_j, two_j[:len(one_j)])
-    else:
-        np.testing.assert_array_equal(one_j[:npair], two_j)
-        assert np.all(one_j[npair:] == -1)
-    # triangles: a folded sheet of 200 triangles across the box
+    nbr.sort_rows(one_start, one_j)
+    nbr.sort_rows(two_start, two_j)
+    np.testing.assert_array_equal(one_j, two_j)   # the same rows once sorted
+    for i in range(n):
+        assert np.all(np.diff(one_j[one_start[i]:one_start[i + 1]]) > 0)
+
+
+def _folded_sheet(L):
+    """A folded sheet of 200 triangles across a box of side L: (vertices, triangles)."""
     g = np.linspace(0, L, 11)
     X, Y = np.meshgrid(g, g, indexing="ij")
     vx = np.column_stack([X.ravel(), Y.ravel(), 0.5 * L + 0.3 * np.abs(X.ravel() - 0.5 * L)])
@@ -249,21 +251,53 @@ def test_one_pass_serial_lists_equal_the_two_pass_parallel_ones(short):
     a, b, c, d = k[:, :] + k[:, :] // 10, k + k // 10 + 1, k + k // 10 + 11, k + k // 10 + 12
     tri = np.vstack([np.column_stack([a.ravel(), b.ravel(), d.ravel()]),
                      np.column_stack([a.ravel(), d.ravel(), c.ravel()])]).astype(np.int64)
-    tstart, tlist = nbr.bin_triangles(vx, tri, lo, inv_cs, dims, r.max() + skin)
-    targs = (n, x, r, skin, cell_of, tstart, tlist, vx, tri)
-    t_start = np.zeros(n + 1, np.int64)
-    nbr.tri_candidates(*targs, t_start, np.zeros(0, np.int32), True)
-    np.cumsum(t_start[1:], out=t_start[1:])
-    t_tri = np.empty(t_start[-1], np.int32)
-    nbr.tri_candidates(*targs, t_start, t_tri, False)
-    assert len(t_tri) > 50
-    o_start = np.zeros(n + 1, np.int64)
-    o_tri = np.full(len(t_tri) // 2 if short else len(t_tri) + 5, -1, np.int32)
-    ntri = nbr.tri_candidates_serial(*targs, o_start, o_tri)
-    assert ntri == len(t_tri)
-    np.testing.assert_array_equal(o_start, t_start)
-    m = min(len(o_tri), ntri)
-    np.testing.assert_array_equal(o_tri[:m], t_tri[:m])
+    return vx, tri
+
+
+@pytest.mark.parametrize("grid", ["particles", "domain"])
+def test_triangle_candidates_are_exactly_the_triangles_within_reach(grid):
+    """near_triangles_by_cell (one pass over the triangles, the particles of the cells
+    near each) against the definition, particle by particle: particle i lists triangle t,
+    in ascending order, exactly when t is not degenerate and lies closer than R_i + skin
+    (a folded sheet, random triangles, a degenerate one; the grid over the particles'
+    bounding box as the lists use it, and over the whole domain)."""
+    from gsi.dem import cells, neighbour as nbr
+    from gsi.dem.geometry import closest_point_triangle
+    rng = np.random.default_rng(5)
+    L, skin = 0.02, 1.5e-3
+    lo, hi = np.full(3, -0.002), np.full(3, L + 0.002)
+    x, r = random_fill(Box((0, 0, 0), (L, L, L)), 1e-3, count=300, rng=rng)
+    r = r * rng.uniform(0.7, 1.0, len(r))
+    n = len(x)
+    vx, tri = _folded_sheet(L)
+    extra = rng.random((30, 3)) * L
+    tri = np.vstack([tri, len(vx) + rng.integers(0, 30, (40, 3)), [[len(vx), len(vx), 1]]])
+    vx = np.vstack([vx, extra])
+    cut = 2 * r.max() + skin
+    if grid == "particles":
+        g_lo, dims, inv_cs = cells.particle_grid(*cells.bounding_box(x), lo, hi, cut, n)
+    else:
+        g_lo, (dims, inv_cs) = lo, cells.grid_for(lo, hi, cut, n)
+    cell_of = np.empty(n, np.int64)
+    cells.cell_index(n, x, g_lo, inv_cs, dims, cell_of)
+    cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
+    mc_start, mc_tri = nbr.near_triangles_by_cell(x, r, skin, cell_start, cell_list, g_lo,
+                                                  inv_cs, dims, r.max() + skin, vx, tri)
+    total = 0
+    tv_lo, tv_hi = vx[tri].min(axis=1), vx[tri].max(axis=1)
+    for i in range(n):
+        want = []
+        rc = r[i] + skin           # (a triangle farther along an axis is farther anyway)
+        for t in np.flatnonzero(((tv_lo - rc < x[i]) & (x[i] < tv_hi + rc)).all(axis=1)):
+            tv = vx[tri[t]]
+            if not np.cross(tv[1] - tv[0], tv[2] - tv[0]).any():
+                continue                                     # degenerate: never listed
+            q = np.array(closest_point_triangle(*x[i], *tv[0], *tv[1], *tv[2])[:3])
+            if ((q - x[i]) ** 2).sum() < (r[i] + skin) ** 2:
+                want.append(int(t))
+        assert mc_tri[mc_start[i]:mc_start[i + 1]].tolist() == want, i
+        total += len(want)
+    assert mc_start[-1] == total > 100
 
 
 def test_triangle_bins_are_exactly_the_cells_within_reach():
