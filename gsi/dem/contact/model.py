@@ -90,30 +90,38 @@ def model_ids(normal="hertz", tangential="history", rolling="none", heat="none",
 # One function per stage, each unrolling its registry (a global tuple: passed as an
 # argument, the tuple of functions would be a dynamic global that numba cannot cache).
 
-def force_lanes(key, l0, l1, B, tab, row, dt):
-    """The normal and tangential sub-models of entry ``len(key) - 1`` of :data:`_FORCE`
-    over lanes l0..l1-1 in one loop (compiled code only: its body is
-    :func:`_force_lanes_impl`)."""
-    raise NotImplementedError("compiled code only")
+def _force_loop(normal, tangential):
+    """The one loop over lanes l0..l1-1 of a normal and a tangential sub-model (each a
+    pair ``(params, lane)``): the normal lane's F_n, k_t, gamma_t go on to the tangential
+    lane in registers."""
+    n_params, n_lane = normal
+    t_params, t_lane = tangential
 
-
-@overload(force_lanes, jit_options=dict(JIT_FLAGS, _nrt=False))
-def _force_lanes_impl(key, l0, l1, B, tab, row, dt):
-    """The loop of :func:`force_lanes` for the combination that the *type* of ``key`` (a
-    tuple of ``len(key)`` zeros) names: the sub-models' functions are taken from
-    :data:`_FORCE` here, at typing time, so the loop calls them directly and they are
-    inlined and vectorized with it.  (A function handed over as a value, as
-    ``literal_unroll`` hands it, is called indirectly, which stops both, and a function
-    that passes one on cannot be cached.)"""
-    (n_params, n_lane), (t_params, t_lane) = _FORCE[len(key) - 1]
-
-    def impl(key, l0, l1, B, tab, row, dt):
+    def loop(key, l0, l1, B, tab, row, dt):
         pn = n_params(tab, row)
         pt = t_params(tab, row)
         for l in range(uint(l0), uint(l1)):
             F_n, k_t, gamma_t = n_lane(B, l, pn)
             t_lane(B, l, pt, F_n, k_t, gamma_t, dt)
-    return impl
+    return loop
+
+
+def force_lanes(key, l0, l1, B, tab, row, dt):
+    """The normal and tangential sub-models of entry ``len(key) - 1`` of :data:`_FORCE`
+    over lanes l0..l1-1 in one loop (:func:`_force_loop`; compiled through
+    :func:`_force_lanes_impl`, run as it is in plain Python with ``GSI_NO_JIT=1``)."""
+    _force_loop(*_FORCE[len(key) - 1])(key, l0, l1, B, tab, row, dt)
+
+
+@overload(force_lanes, jit_options=dict(JIT_FLAGS, _nrt=False))
+def _force_lanes_impl(key, l0, l1, B, tab, row, dt):
+    """The compiled :func:`force_lanes` for the combination that the *type* of ``key`` (a
+    tuple of ``len(key)`` zeros) names: the sub-models' functions are taken from
+    :data:`_FORCE` here, at typing time, so the loop calls them directly and they are
+    inlined and vectorized with it.  (A function handed over as a value, as
+    ``literal_unroll`` hands it, is called indirectly, which stops both, and a function
+    that passes one on cannot be cached.)"""
+    return _force_loop(*_FORCE[len(key) - 1])
 
 
 @njit(_nrt=False)
