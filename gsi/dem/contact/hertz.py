@@ -10,7 +10,7 @@ docs/design.md, "DEM physics", for overlap delta > 0:
 """
 import math
 
-from gsi.jit import njit, sqrt
+from gsi.jit import njit, sqrt, uint
 from gsi.dem.contact.lanes import (NX, NY, NZ, DELTA, VX, VY, VZ, REFF, MEFF, FN, KT, GT,
                                    GN)
 from gsi.dem.materials import P_E, P_G, P_BETA, P_ST_SN
@@ -19,32 +19,21 @@ SQRT_5_6 = math.sqrt(5.0 / 6.0)
 
 
 @njit(_nrt=False)
-def params(tab, row):
-    """The constants of pair-table row ``row``: E*, G*, beta, sqrt(S_t/S_n) = sqrt(4 G*/E*)
-    (one root less per contact)."""
-    return tab[row, P_E], tab[row, P_G], tab[row, P_BETA], tab[row, P_ST_SN]
-
-
-@njit(_nrt=False, inline="always")   # numba-inlined: the fused loop vectorizes
-def lane(B, l, p):
-    """Normal force ``FN`` (also ``GN``, ``KT``, ``GT``) of lane ``l`` (see
-    :mod:`gsi.dem.contact.lanes`); returns F_n, k_t, gamma_t for the tangential model."""
-    E_eff, G_eff, beta, st_sn = p
-    delta = B[DELTA + l]
-    sqrt_Rd = sqrt(B[REFF + l] * delta)
-    S_n = 2.0 * E_eff * sqrt_Rd
-    k_n = 4.0 / 3.0 * E_eff * sqrt_Rd
-    gamma_n = -2.0 * SQRT_5_6 * beta * sqrt(S_n * B[MEFF + l])
-    v_n = B[VX + l] * B[NX + l] + B[VY + l] * B[NY + l] + B[VZ + l] * B[NZ + l]
-    F_n = k_n * delta + gamma_n * v_n
-    k_t = 8.0 * G_eff * sqrt_Rd
-    gamma_t = gamma_n * st_sn
-    B[FN + l] = F_n
-    B[GN + l] = gamma_n
-    B[KT + l] = k_t
-    B[GT + l] = gamma_t
-    return F_n, k_t, gamma_t
-
-
-#: the sub-model (:mod:`gsi.dem.contact.model`): its table constants and its lane
-hertz = (params, lane)
+def hertz(l0, l1, B, tab, row, dt):
+    """Normal force ``FN`` and tangential coefficients ``KT``, ``GT`` of lanes l0..l1-1
+    (see :mod:`gsi.dem.contact.lanes`) for pair-table row ``row``."""
+    E_eff = tab[row, P_E]
+    G_eff = tab[row, P_G]
+    beta = tab[row, P_BETA]
+    st_sn = tab[row, P_ST_SN]        # sqrt(S_t/S_n) = sqrt(4 G*/E*), one root less
+    for l in range(uint(l0), uint(l1)):
+        delta = B[DELTA + l]
+        sqrt_Rd = sqrt(B[REFF + l] * delta)
+        S_n = 2.0 * E_eff * sqrt_Rd
+        k_n = 4.0 / 3.0 * E_eff * sqrt_Rd
+        gamma_n = -2.0 * SQRT_5_6 * beta * sqrt(S_n * B[MEFF + l])
+        v_n = B[VX + l] * B[NX + l] + B[VY + l] * B[NY + l] + B[VZ + l] * B[NZ + l]
+        B[FN + l] = k_n * delta + gamma_n * v_n
+        B[GN + l] = gamma_n
+        B[KT + l] = 8.0 * G_eff * sqrt_Rd
+        B[GT + l] = gamma_n * st_sn

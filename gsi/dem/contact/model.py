@@ -16,34 +16,29 @@ the sub-models in order over the lanes:
    engine after :func:`evaluate`): the power the contact dissipates
    (:mod:`gsi.dem.contact.dissipation`).
 
-The normal and tangential registries map a name to a pair ``(params, lane)``:
-``params(tab, row)`` reads the sub-model's constants from a pair-table row once per run
-of lanes, ``lane(B, l, ...)`` evaluates one lane (the normal lane returns F_n, k_t,
-gamma_t, which the tangential lane takes as arguments).  The two run in ONE loop over
-the lanes (:func:`force_stage`; the values stay in registers, one pass over the buffer
-instead of two).  The rolling and heat registries map a name to a compiled lane loop
-``f(l0, l1, B, tab, row, dt)``.  A new sub-model is one file and one line in its
-registry.  The engine is compiled once for all of them: the model is a small integer
-array (:func:`model_ids`), and :func:`evaluate` calls the chosen loop of each stage
-(``literal_unroll`` over the registry, a direct call per batch, no code generation).
-Damping is part of the normal sub-model, as in LIGGGHTS' ``hertz``/``hooke`` models,
-because each law's damping coefficient is tied to its own stiffness.
+Each registry below maps a name to one compiled lane loop
+``f(l0, l1, B, tab, row, dt)``; a new sub-model is one function in its own file and one
+line in its registry.  The engine is compiled once for all of them: the model is a
+small integer array (:func:`model_ids`), and :func:`evaluate` calls the chosen loop of
+each stage (``literal_unroll`` over the registry, a direct call per batch, no code
+generation and no function pointers).  Damping is part of the normal sub-model, as in
+LIGGGHTS' ``hertz``/``hooke`` models, because each law's damping coefficient is tied to
+its own stiffness.
 """
 import numpy as np
 from numba import literal_unroll
-from numba.extending import overload
 
-from gsi.jit import njit, uint, JIT_FLAGS
+from gsi.jit import njit, uint
 from gsi.errors import GsiInputError
 from gsi.dem.contact import conductance as heat
 from gsi.dem.contact import hertz, linear, tangential, rolling
 from gsi.dem.contact.dissipation import dissipation
 
-#: normal sub-models (elastic + damping), ``(params, lane)``: FN, KT, GT (and GN)
+#: normal sub-models (elastic + damping): FN, KT, GT
 NORMAL = {"hertz": hertz.hertz, "linear": linear.linear}
 #: k_t of each normal sub-model grows as delta^p (the old spring energy of the dissipation)
 KT_POWER = {"hertz": 0.5, "linear": 0.0}
-#: tangential sub-models, ``(params, lane)``: FX..FZ and the spring (and CT)
+#: tangential sub-models: FX..FZ and the spring
 TANGENTIAL = {"history": tangential.history}
 #: rolling sub-models: MX..MZ
 ROLLING = {"none": rolling.none, "cdt": rolling.cdt}
@@ -60,10 +55,6 @@ K_T_OVER_K_N = linear.K_T_OVER_K_N
 _NORMAL = tuple(NORMAL.values())
 _KT_POWER = tuple(KT_POWER[name] for name in NORMAL)
 _TANGENTIAL = tuple(TANGENTIAL.values())
-#: every (normal, tangential) combination, normal-major (:func:`force_stage`)
-_FORCE = tuple((n, t) for n in _NORMAL for t in _TANGENTIAL)
-#: a key per combination, told apart by its type: entry c is a tuple of c + 1 zeros
-_FORCE_KEYS = tuple((0,) * (c + 1) for c in range(len(_FORCE)))
 _ROLLING = tuple(ROLLING.values())
 _HEAT = tuple(HEAT.values())
 
@@ -90,50 +81,23 @@ def model_ids(normal="hertz", tangential="history", rolling="none", heat="none",
 # One function per stage, each unrolling its registry (a global tuple: passed as an
 # argument, the tuple of functions would be a dynamic global that numba cannot cache).
 
-def _force_loop(normal, tangential):
-    """The one loop over lanes l0..l1-1 of a normal and a tangential sub-model (each a
-    pair ``(params, lane)``): the normal lane's F_n, k_t, gamma_t go on to the tangential
-    lane in registers."""
-    n_params, n_lane = normal
-    t_params, t_lane = tangential
-
-    def loop(key, l0, l1, B, tab, row, dt):
-        pn = n_params(tab, row)
-        pt = t_params(tab, row)
-        for l in range(uint(l0), uint(l1)):
-            F_n, k_t, gamma_t = n_lane(B, l, pn)
-            t_lane(B, l, pt, F_n, k_t, gamma_t, dt)
-    return loop
-
-
-def force_lanes(key, l0, l1, B, tab, row, dt):
-    """The normal and tangential sub-models of entry ``len(key) - 1`` of :data:`_FORCE`
-    over lanes l0..l1-1 in one loop (:func:`_force_loop`; compiled through
-    :func:`_force_lanes_impl`, run as it is in plain Python with ``GSI_NO_JIT=1``)."""
-    _force_loop(*_FORCE[len(key) - 1])(key, l0, l1, B, tab, row, dt)
-
-
-@overload(force_lanes, jit_options=dict(JIT_FLAGS, _nrt=False))
-def _force_lanes_impl(key, l0, l1, B, tab, row, dt):
-    """The compiled :func:`force_lanes` for the combination that the *type* of ``key`` (a
-    tuple of ``len(key)`` zeros) names: the sub-models' functions are taken from
-    :data:`_FORCE` here, at typing time, so the loop calls them directly and they are
-    inlined and vectorized with it.  (A function handed over as a value, as
-    ``literal_unroll`` hands it, is called indirectly, which stops both, and a function
-    that passes one on cannot be cached.)"""
-    return _force_loop(*_FORCE[len(key) - 1])
+@njit(_nrt=False)
+def normal_stage(idx, l0, l1, B, tab, row, dt):
+    """The normal sub-model ``idx`` of :data:`NORMAL` over lanes l0..l1-1."""
+    k = 0
+    for f in literal_unroll(_NORMAL):
+        if k == idx:
+            f(l0, l1, B, tab, row, dt)
+        k += 1
 
 
 @njit(_nrt=False)
-def force_stage(idx, l0, l1, B, tab, row, dt):
-    """The normal and tangential sub-models of combination ``idx`` of :data:`_FORCE`
-    (``M_NORMAL * len(TANGENTIAL) + M_TANGENTIAL``) over lanes l0..l1-1, in ONE loop: each
-    lane runs the normal lane, whose F_n, k_t, gamma_t go on to the tangential lane in
-    registers (one pass over the buffer instead of two)."""
+def tangential_stage(idx, l0, l1, B, tab, row, dt):
+    """The tangential sub-model ``idx`` of :data:`TANGENTIAL` over lanes l0..l1-1."""
     k = 0
-    for key in literal_unroll(_FORCE_KEYS):
+    for f in literal_unroll(_TANGENTIAL):
         if k == idx:
-            force_lanes(key, l0, l1, B, tab, row, dt)
+            f(l0, l1, B, tab, row, dt)
         k += 1
 
 
@@ -161,8 +125,8 @@ def heat_stage(idx, l0, l1, B, tab, row, dt):
 def evaluate(l0, l1, B, tab, row, dt, model):
     """Run the chosen sub-models over lanes l0..l1-1 of the buffer ``B``, which share
     pair-table row ``row``: normal, tangential, rolling, heat (module docstring)."""
-    force_stage(model[M_NORMAL] * len(_TANGENTIAL) + model[M_TANGENTIAL], l0, l1, B, tab,
-                row, dt)
+    normal_stage(model[M_NORMAL], l0, l1, B, tab, row, dt)
+    tangential_stage(model[M_TANGENTIAL], l0, l1, B, tab, row, dt)
     # "none" (entry 0) is skipped: its outputs keep the zeros the buffers start with
     if model[M_ROLLING] != 0:
         rolling_stage(model[M_ROLLING], l0, l1, B, tab, row, dt)
