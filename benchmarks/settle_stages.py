@@ -32,6 +32,7 @@ from gsi.dem.integrate import integrate_rows
 
 @numba.njit
 def pairs_pass(level, dt, P, pairs, tab, nt, model):
+    """One pass of the pair path over every slab, up to stage ``level`` (see :func:`stage`)."""
     B = lane_buffer()
     lk = np.empty(CH, np.uint64); lj = np.empty(CH, np.uint64)
     lrow = np.empty(CH, np.int64); brow = np.empty(CH, np.int64)
@@ -56,6 +57,8 @@ def pairs_pass(level, dt, P, pairs, tab, nt, model):
 
 @numba.njit
 def stage(level, nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model):
+    """A gathered batch through the stages up to ``level``: 0 none, 1 geometry, 2 + normal,
+    3 + tangential, 4 + torques, 6 the whole ``finish_pairs`` (with the scatter)."""
     if level == 0:
         return B[n // 2]
     if level >= 6:
@@ -72,6 +75,7 @@ def stage(level, nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
 
 @numba.njit
 def rep_pairs(k, level, dt, P, pairs, tab, nt, model):
+    """``k`` pair passes up to ``level``."""
     a = 0.0
     for _ in range(k):
         a += pairs_pass(level, dt, P, pairs, tab, nt, model)
@@ -79,6 +83,7 @@ def rep_pairs(k, level, dt, P, pairs, tab, nt, model):
 
 @numba.njit
 def rep_walls(k, wlev, dt, P, pairs, pl, M, wc, plh, tab, nt, model, pl_acc):
+    """``k`` passes of the wall path: the gather alone (``wlev`` 0) or with the finish (1)."""
     W = lane_buffer()
     wi = np.empty(CH, np.int64); wkind = np.empty(CH, np.int64); wk = np.empty(CH, np.int64)
     wp = np.empty(CH, np.int64); wrow = np.empty(CH, np.int64)
@@ -99,6 +104,7 @@ def rep_walls(k, wlev, dt, P, pairs, pl, M, wc, plh, tab, nt, model, pl_acc):
 
 @numba.njit
 def rep_int(k, mode, dt, P, pairs, lo, hi):
+    """``k`` integrations of every particle (``integrate_rows``, ``mode``)."""
     for _ in range(k):
         integrate_rows(0, P.x.shape[0], pairs.slab_list, mode, False, 0.5 * dt, dt, 0.0, 0.0, -9.81, P, lo, hi, 1e30)
 
