@@ -14,8 +14,10 @@ batches of PASSES passes, the state restored before each.  Note: the stages are 
 from this file's loops, not from the engine's slab task, so LLVM's inlining choices
 may differ from the engine's: here ``gather_walls`` is a call per particle that passes
 every state bundle on the stack (~0.2 us), so "planes: gather" reads 0.6 ms where the
-engine's planes take 0.1 ms (``benchmarks/settle_profile.py``); the pair rows agree
-with the engine's pair figure to within its own overhead.
+engine's planes take 0.1 ms (``benchmarks/settle_profile.py``); the pair rows summed
+(1.7 ms on 2026-12-05) are below the engine's pair figure (2.2 ms, which also counts the
+forces-only pass's clearing and its slab tasks): read them as shares, not as the
+engine's absolute times.
 Last line: each stage's ms per pass.
 """
 import os, sys, time
