@@ -179,6 +179,14 @@ _HYPRE_COMMON = {"pc_type": "hypre", "pc_hypre_type": "boomeramg",
                  "pc_hypre_boomeramg_strong_threshold": "0.5",
                  "pc_hypre_boomeramg_P_max": "4",
                  "pc_hypre_boomeramg_agg_nl": "0"}
+#: BDDC with deluxe scaling and every local solve (Neumann, Dirichlet, the coarse problem)
+#: a MUMPS factorization (PETSc's own LU is the default of the first two)
+_BDDC_MUMPS = {"pc_type": "bddc", "pc_bddc_use_deluxe_scaling": "",
+               "pc_bddc_neumann_pc_type": "lu",
+               "pc_bddc_neumann_pc_factor_mat_solver_type": "mumps",
+               "pc_bddc_dirichlet_pc_type": "lu",
+               "pc_bddc_dirichlet_pc_factor_mat_solver_type": "mumps",
+               "pc_bddc_coarse_redundant_pc_factor_mat_solver_type": "mumps"}
 CANDIDATES = {
     "gamg": dict(ITERATIVE_DEFAULTS["elasticity_gamg"]),
     "gamg_sor": dict(ITERATIVE_DEFAULTS["elasticity_gamg"], mg_levels_pc_type="sor"),
@@ -192,8 +200,15 @@ CANDIDATES = {
                             pc_hypre_boomeramg_strong_threshold="0.7"),
     "bjacobi_lu": {"pc_type": "bjacobi", "sub_pc_type": "cholesky",
                    "sub_pc_factor_mat_solver_type": "mumps"},
+    "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
     "bddc": {"pc_type": "bddc"},
     "bddc_deluxe": {"pc_type": "bddc", "pc_bddc_use_deluxe_scaling": ""},
+    "bddc_mumps": dict(_BDDC_MUMPS),
+    "bddc_adapt2": dict(_BDDC_MUMPS, pc_bddc_adaptive_threshold="2"),
+    "bddc_adapt5": dict(_BDDC_MUMPS, pc_bddc_adaptive_threshold="5"),
+    "bddc_adapt10": dict(_BDDC_MUMPS, pc_bddc_adaptive_threshold="10"),
+    "bddc_faces": dict(_BDDC_MUMPS, pc_bddc_use_faces=""),
+    "bddc_nonnsp": dict(_BDDC_MUMPS, pc_bddc_use_nnsp="false"),
     "pmg_gamg": {"pc_type": "mg", "pc_mg_levels": "2", "pc_mg_galerkin": "none",
                  "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
                  "mg_levels_esteig_ksp_type": "cg", "mg_levels_ksp_max_it": "2",
@@ -207,7 +222,13 @@ CANDIDATES = {
 #: rotations only (hypre's interpolation vectors: the translations are the per-function
 #: constants its interpolation reproduces already) or none
 NULLSPACE = {"gamg": "rbm", "gamg_sor": "rbm", "hypre_nodal": "rotations",
-             "hypre_nodal_t07": "rotations", "bddc": "rbm", "bddc_deluxe": "rbm"}
+             "hypre_nodal_t07": "rotations", "bddc": "rbm", "bddc_deluxe": "rbm",
+             **{c: "rbm" for c in ("bddc_mumps", "bddc_adapt2", "bddc_adapt5",
+                                   "bddc_adapt10", "bddc_faces", "bddc_nonnsp")}}
+
+
+#: options added to every bddc candidate (``--bddc-set``)
+BDDC_EXTRA: dict[str, str] = {}
 
 
 def load_average() -> float:
@@ -357,10 +378,12 @@ def p_multigrid(ksp, p, A):
     return Ac
 
 
-def run_candidate(name, p, A, b, x_ref, max_its, comm):
+def run_candidate(name, p, A, b, x_ref, max_its, comm, rtol=ITERATIVE_RTOL):
     opts = PETSc.Options()
     prefix = f"sp_{name}_"
     settings = dict(CANDIDATES[name])
+    if name.startswith("bddc"):
+        settings.update(BDDC_EXTRA)
     # a copy of its own: the near-nullspace attached to the matrix is the candidate's
     op = matis_matrix(p) if name.startswith("bddc") else A.duplicate(copy=True)
     nsp = near_nullspace(p, op, NULLSPACE.get(name))
@@ -371,7 +394,7 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm):
     for k, v in settings.items():
         opts[prefix + k] = v
     ksp.setOperators(op)
-    ksp.setTolerances(rtol=ITERATIVE_RTOL, atol=0.0, max_it=max_its)
+    ksp.setTolerances(rtol=rtol, atol=0.0, max_it=max_its)
     ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
     ksp.setType("cg")
     ksp.setFromOptions()
@@ -436,10 +459,16 @@ def main() -> None:
                     help="refine uniformly from the --min-dofs mesh (one more element layer "
                          "through the wall per size, h scaled alike); --max-dofs unused")
     ap.add_argument("--max-its", type=int, default=3000)
+    ap.add_argument("--rtol", type=float, default=ITERATIVE_RTOL,
+                    help="CG's relative tolerance (default gsi's ITERATIVE_RTOL)")
+    ap.add_argument("--bddc-set", default="",
+                    help="extra PETSc options of every bddc candidate: k=v,k=v (k without "
+                         "the dash; 'k=' a flag)")
     ap.add_argument("--bjacobi-max-dofs", type=float, default=1.1e5,
                     help="skip bjacobi_lu above this size (a factor per rank)")
     args = ap.parse_args()
     comm = MPI.COMM_WORLD
+    BDDC_EXTRA.update(kv.split("=", 1) for kv in args.bddc_set.split(",") if kv)
     load0 = load_average()
     cands = [c for c in args.candidates.split(",") if c] + (["bddc"] if args.bddc else [])
     structures = [s for s in args.structures.split(",") if s]
@@ -452,7 +481,7 @@ def main() -> None:
             for c in cands:
                 if c == "bjacobi_lu" and p.n_dofs > args.bjacobi_max_dofs:
                     continue
-                r = run_candidate(c, p, A, b, x_ref, args.max_its, comm)
+                r = run_candidate(c, p, A, b, x_ref, args.max_its, comm, args.rtol)
                 if x_ref is None and r.get("reason", -1) > 0:
                     x_ref = r["x"]
                 r.pop("x", None)
@@ -483,8 +512,14 @@ def main() -> None:
             its_max = rs[-1]["its"] if rs[-1]["reason"] > 0 else -1
             g = rs[-1]["its"] / max(rs[0]["its"], 1) if conv else float("nan")
             kv += [f"its_{c}_{st}={its_max}", f"growth_{c}_{st}={g:.3g}"]
+            # every size: iterations (-1: not converged), set-up and solve seconds
+            kv += [f"dofs_{c}_{st}=" + "/".join(str(r["dofs"]) for r in rs),
+                   f"itsall_{c}_{st}=" + "/".join(
+                       str(r["its"] if r["reason"] > 0 else -1) for r in rs),
+                   f"setup_{c}_{st}=" + "/".join(f"{r['setup_s']:.2f}" for r in rs),
+                   f"solve_{c}_{st}=" + "/".join(f"{r['solve_s']:.2f}" for r in rs)]
             if st == "shell" and conv and len(rs) == len(targets) and not (
-                    comm.size == 1 and c in ("bjacobi_lu", "bddc", "bddc_deluxe")):
+                    comm.size == 1 and (c in ("bjacobi_lu", "direct") or c.startswith("bddc"))):
                 growth[c] = (g, rs[-1]["its"], rs[-1]["dofs"])
     if growth:
         best = min(growth, key=lambda c: (growth[c][0], growth[c][1]))
