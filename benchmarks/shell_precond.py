@@ -135,6 +135,31 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   plain BDDC it breaks down (PETSc reason -8, indefinite preconditioner) at 2e-12 to
   3e-11 of the initial residual, short of gsi's 1e-12. Not tried: an adaptive coarse
   space (``pc_bddc_adaptive_threshold``), which targets this growth.
+* BDDC made robust (2026-12-05, issue 33's third step; uniformly refined shell, CG to
+  ``--rtol 1e-10``; ``bddc_mumps``: deluxe scaling and MUMPS for the Neumann, Dirichlet
+  and coarse solves; ``bddc_adaptN``: the same with PETSc's adaptive coarse space,
+  ``pc_bddc_adaptive_threshold N``; 4 and 8 ranks oversubscribed, counts only):
+
+  ============  ===========================  ===========================
+  subdomains    bddc_mumps (default coarse)  bddc_adapt2
+                4.9e3 / 3.2e4 / 9.9e4 dofs   4.9e3 / 3.2e4 / 9.9e4 dofs
+  ============  ===========================  ===========================
+  2             15 / 24 / 28                 11 / 11 / 12
+  4             38 / see the json            13 / see the json
+  8             116 / 255 / -                14 / 14 / -
+  ============  ===========================  ===========================
+
+  8 subdomains at 3.2e4: threshold 5 23, threshold 10 27, ``pc_bddc_use_faces`` 193
+  iterations. The cause of the "breakdown": the tolerance, not BDDC. 1e-12 of ||b|| is
+  below these systems' round-off floor (the 3.2e4 shell: eps || |A| |x| || / ||b|| =
+  2.0e-11; the MUMPS direct solution's own residual 1.4e-11 of ||b||), so CG's last
+  iterations work on round-off: with PETSc's own LU in the local solves it stops on
+  reason -8 (indefinite preconditioner), with MUMPS it stagnates at 1.6e-11 (600
+  iterations). At 1e-10 every BDDC solution lies within 1.2e-12 (3.2e4) and 4.8e-12
+  (9.9e4) of the direct one. Times at 2 ranks (load 5-9): 9.9e4 dofs, bddc_adapt2
+  set-up 276 s + solve 8.1 s, bddc_mumps 120 s + 12.8 s, MUMPS direct 91.6 s + 0.36 s:
+  the adaptive coarse space's dense interface eigenproblems dominate with 2 large
+  subdomains.
 * GAMG with an SOR smoother under Chebyshev fails from 3e4 dofs on (the preconditioner's
   Chebyshev eigenvalue estimate breaks down: PETSc reason -11).
 
@@ -302,10 +327,8 @@ def near_nullspace(p, A, kind):
 
 
 def matis_matrix(p):
-    """The step matrix of ``p`` assembled unassembled (MATIS) for BDDC: dolfinx's own
-    MATIS with its local matrix preallocated here (see the module docstring)."""
-    import scipy.sparse as sp
-    import dolfinx.fem.petsc as fp
+    """The step matrix of ``p`` assembled unassembled (MATIS) for BDDC
+    (:func:`gsi.fem.compat.assemble_matis`, gsi's own ``pc_type = "bddc"`` path)."""
     import ufl
     from gsi.fem.elasticity import epsilon, sigma_mech
     m = p.material
@@ -314,49 +337,7 @@ def matis_matrix(p):
     c_M, c_K = p.newmark.matrix_weights()
     a = compat.form(c_M * m.rho * ufl.inner(u, w) * dx
                     + c_K * ufl.inner(sigma_mech(u, m.mu, m.lmbda), epsilon(w)) * dx)
-    A = fp.create_matrix(a, "is")
-    L = A.getISLocalMat()
-    cd = compat.cell_dofs(p.V)
-    n_nodes = L.getSize()[0] // 3
-    rows = np.repeat(np.arange(cd.shape[0]), cd.shape[1])
-    B = sp.csr_matrix((np.ones(cd.size), (rows, cd.ravel())), shape=(cd.shape[0], n_nodes))
-    C = (B.T @ B).tocsr()
-    nnz = np.repeat(np.diff(C.indptr) * 3, 3).astype(PETSc.IntType)
-    L.setPreallocationNNZ(nnz)
-    L.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-    A.zeroEntries()
-    fp.assemble_matrix(A, a, bcs=p.bcs)
-    # dolfinx puts the Dirichlet rows' 1 on the diagonal of the owning rank's subdomain
-    # only: the other subdomains sharing the dof keep an empty row (their local Neumann
-    # problem would be singular). Each gets a 1 there too: the assembled diagonal of a
-    # shared Dirichlet dof is then the number of subdomains sharing it, and its solution
-    # stays 0 (its right-hand side is 0, its row and column empty).
-    for bc in p.bcs:
-        dofs, first_ghost = bc.dof_indices()
-        for d in np.asarray(dofs[first_ghost:]):
-            L.setValue(int(d), int(d), 1.0, addv=PETSc.InsertMode.INSERT_VALUES)
-    A.assemble()
-    # The local space of dolfinx's MATIS is the rank's ghosted dofs, which include dofs of
-    # ghost cells that no owned cell touches (the mesh is ghosted by facets): their rows
-    # are empty. The subdomain is restricted to the dofs of its owned cells.
-    n_cells = compat.num_cells_local(p.mesh)
-    used = np.unique(cd[:n_cells].ravel())
-    rows = (3 * used[:, None] + np.arange(3)).ravel().astype(PETSc.IntType)
-    imap, _ = compat.dof_index_map(p.V)
-    if np.setdiff1d(np.arange(imap.size_local), used).size:
-        raise RuntimeError("matis_matrix: an owned dof lies in no owned cell")
-    is_rows = PETSc.IS().createGeneral(rows, comm=PETSc.COMM_SELF)
-    Lsub = L.createSubMatrix(is_rows, is_rows)
-    blocks = A.getLGMap()[0].getBlockIndices()
-    lgmap = PETSc.LGMap().create(blocks[used], bsize=3, comm=A.getComm())
-    B = PETSc.Mat().create(comm=A.getComm())
-    B.setSizes(A.getSizes(), bsize=3)
-    B.setType("is")
-    B.setLGMap(lgmap, lgmap)
-    B.setISLocalMat(Lsub)
-    B.assemble()
-    A.destroy()
-    return B
+    return compat.assemble_matis(a, p.bcs, p.V)
 
 
 def p_multigrid(ksp, p, A):
