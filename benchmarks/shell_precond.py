@@ -145,7 +145,7 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
                 4.9e3 / 3.2e4 / 9.9e4 dofs   4.9e3 / 3.2e4 / 9.9e4 dofs
   ============  ===========================  ===========================
   2             15 / 24 / 28                 11 / 11 / 12
-  4             38 / see the json            13 / see the json
+  4             38 / 28 / 104                13 / 13 / 13
   8             116 / 255 / -                14 / 14 / -
   ============  ===========================  ===========================
 
@@ -159,7 +159,7 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   (9.9e4) of the direct one. Times at 2 ranks (load 5-9): 9.9e4 dofs, bddc_adapt2
   set-up 276 s + solve 8.1 s, bddc_mumps 120 s + 12.8 s, MUMPS direct 91.6 s + 0.36 s:
   the adaptive coarse space's dense interface eigenproblems dominate with 2 large
-  subdomains.
+  subdomains; with 4 (oversubscribed, load 6-9) its set-up at 9.9e4 fell to 40.6 s.
 * GAMG with an SOR smoother under Chebyshev fails from 3e4 dofs on (the preconditioner's
   Chebyshev eigenvalue estimate breaks down: PETSc reason -11).
 
