@@ -146,9 +146,15 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   ============  ===========================  ===========================
   2             15 / 24 / 28                 11 / 11 / 12
   4             38 / 28 / 104                13 / 13 / 13
-  8             116 / 255 / -                14 / 14 / -
+  8             116 / 253 / 314              14 / 14 / 14
   ============  ===========================  ===========================
 
+  (8 subdomains, 3.2e4: an earlier run gave 255 for the default coarse space.) With
+  8 subdomains at 9.9e4 the adaptive set-up took 38.1 s and its solve 3.9 s against the
+  default coarse space's 21.4 s + 76.7 s (oversubscribed, load 9). Through gsi itself
+  (``benchmarks/fe_scale.py --petsc '{"pc_type": "bddc"}'``, 2 ranks, fixed one-layer
+  shell, one step): 11 / 13 iterations at 9.9e3 / 3.0e4 dofs, set-up 12.9 s and step
+  2.6 s at 3.0e4 (load 9).
   8 subdomains at 3.2e4: threshold 5 23, threshold 10 27, ``pc_bddc_use_faces`` 193
   iterations. The cause of the "breakdown": the tolerance, not BDDC. 1e-12 of ||b|| is
   below these systems' round-off floor (the 3.2e4 shell: eps || |A| |x| || / ||b|| =
