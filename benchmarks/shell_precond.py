@@ -135,6 +135,38 @@ pmg_gamg               675 / 1024 / 1237           406 / 347 / 334
   plain BDDC it breaks down (PETSc reason -8, indefinite preconditioner) at 2e-12 to
   3e-11 of the initial residual, short of gsi's 1e-12. Not tried: an adaptive coarse
   space (``pc_bddc_adaptive_threshold``), which targets this growth.
+* BDDC made robust (2026-12-05, issue 33's third step; uniformly refined shell, CG to
+  ``--rtol 1e-10``; ``bddc_mumps``: deluxe scaling and MUMPS for the Neumann, Dirichlet
+  and coarse solves; ``bddc_adaptN``: the same with PETSc's adaptive coarse space,
+  ``pc_bddc_adaptive_threshold N``; 4 and 8 ranks oversubscribed, counts only):
+
+  ============  ===========================  ===========================
+  subdomains    bddc_mumps (default coarse)  bddc_adapt2
+                4.9e3 / 3.2e4 / 9.9e4 dofs   4.9e3 / 3.2e4 / 9.9e4 dofs
+  ============  ===========================  ===========================
+  2             15 / 24 / 28                 11 / 11 / 12
+  4             38 / 28 / 104                13 / 13 / 13
+  8             116 / 253 / 314              14 / 14 / 14
+  8, 2.2e5     -                            14 (set-up 269 s, solve 3.8 s)
+  ============  ===========================  ===========================
+
+  (8 subdomains, 3.2e4: an earlier run gave 255 for the default coarse space.) With
+  8 subdomains at 9.9e4 the adaptive set-up took 38.1 s and its solve 3.9 s against the
+  default coarse space's 21.4 s + 76.7 s (oversubscribed, load 9). Through gsi itself
+  (``benchmarks/fe_scale.py --petsc '{"pc_type": "bddc"}'``, 2 ranks, fixed one-layer
+  shell, one step): 11 / 13 iterations at 9.9e3 / 3.0e4 dofs, set-up 12.9 s and step
+  2.6 s at 3.0e4 (load 9).
+  8 subdomains at 3.2e4: threshold 5 23, threshold 10 27, ``pc_bddc_use_faces`` 193
+  iterations. The cause of the "breakdown": the tolerance, not BDDC. 1e-12 of ||b|| is
+  below these systems' round-off floor (the 3.2e4 shell: eps || |A| |x| || / ||b|| =
+  2.0e-11; the MUMPS direct solution's own residual 1.4e-11 of ||b||), so CG's last
+  iterations work on round-off: with PETSc's own LU in the local solves it stops on
+  reason -8 (indefinite preconditioner), with MUMPS it stagnates at 1.6e-11 (600
+  iterations). At 1e-10 every BDDC solution lies within 1.2e-12 (3.2e4) and 4.8e-12
+  (9.9e4) of the direct one. Times at 2 ranks (load 5-9): 9.9e4 dofs, bddc_adapt2
+  set-up 276 s + solve 8.1 s, bddc_mumps 120 s + 12.8 s, MUMPS direct 91.6 s + 0.36 s:
+  the adaptive coarse space's dense interface eigenproblems dominate with 2 large
+  subdomains; with 4 (oversubscribed, load 6-9) its set-up at 9.9e4 fell to 40.6 s.
 * GAMG with an SOR smoother under Chebyshev fails from 3e4 dofs on (the preconditioner's
   Chebyshev eigenvalue estimate breaks down: PETSc reason -11).
 
@@ -179,6 +211,14 @@ _HYPRE_COMMON = {"pc_type": "hypre", "pc_hypre_type": "boomeramg",
                  "pc_hypre_boomeramg_strong_threshold": "0.5",
                  "pc_hypre_boomeramg_P_max": "4",
                  "pc_hypre_boomeramg_agg_nl": "0"}
+#: BDDC with deluxe scaling and every local solve (Neumann, Dirichlet, the coarse problem)
+#: a MUMPS factorization (PETSc's own LU is the default of the first two)
+_BDDC_MUMPS = {"pc_type": "bddc", "pc_bddc_use_deluxe_scaling": "",
+               "pc_bddc_neumann_pc_type": "lu",
+               "pc_bddc_neumann_pc_factor_mat_solver_type": "mumps",
+               "pc_bddc_dirichlet_pc_type": "lu",
+               "pc_bddc_dirichlet_pc_factor_mat_solver_type": "mumps",
+               "pc_bddc_coarse_redundant_pc_factor_mat_solver_type": "mumps"}
 CANDIDATES = {
     "gamg": dict(ITERATIVE_DEFAULTS["elasticity_gamg"]),
     "gamg_sor": dict(ITERATIVE_DEFAULTS["elasticity_gamg"], mg_levels_pc_type="sor"),
@@ -192,8 +232,15 @@ CANDIDATES = {
                             pc_hypre_boomeramg_strong_threshold="0.7"),
     "bjacobi_lu": {"pc_type": "bjacobi", "sub_pc_type": "cholesky",
                    "sub_pc_factor_mat_solver_type": "mumps"},
+    "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
     "bddc": {"pc_type": "bddc"},
     "bddc_deluxe": {"pc_type": "bddc", "pc_bddc_use_deluxe_scaling": ""},
+    "bddc_mumps": dict(_BDDC_MUMPS),
+    "bddc_adapt2": dict(_BDDC_MUMPS, pc_bddc_adaptive_threshold="2"),
+    "bddc_adapt5": dict(_BDDC_MUMPS, pc_bddc_adaptive_threshold="5"),
+    "bddc_adapt10": dict(_BDDC_MUMPS, pc_bddc_adaptive_threshold="10"),
+    "bddc_faces": dict(_BDDC_MUMPS, pc_bddc_use_faces=""),
+    "bddc_nonnsp": dict(_BDDC_MUMPS, pc_bddc_use_nnsp="false"),
     "pmg_gamg": {"pc_type": "mg", "pc_mg_levels": "2", "pc_mg_galerkin": "none",
                  "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
                  "mg_levels_esteig_ksp_type": "cg", "mg_levels_ksp_max_it": "2",
@@ -207,7 +254,13 @@ CANDIDATES = {
 #: rotations only (hypre's interpolation vectors: the translations are the per-function
 #: constants its interpolation reproduces already) or none
 NULLSPACE = {"gamg": "rbm", "gamg_sor": "rbm", "hypre_nodal": "rotations",
-             "hypre_nodal_t07": "rotations", "bddc": "rbm", "bddc_deluxe": "rbm"}
+             "hypre_nodal_t07": "rotations", "bddc": "rbm", "bddc_deluxe": "rbm",
+             **{c: "rbm" for c in ("bddc_mumps", "bddc_adapt2", "bddc_adapt5",
+                                   "bddc_adapt10", "bddc_faces", "bddc_nonnsp")}}
+
+
+#: options added to every bddc candidate (``--bddc-set``)
+BDDC_EXTRA: dict[str, str] = {}
 
 
 def load_average() -> float:
@@ -281,10 +334,8 @@ def near_nullspace(p, A, kind):
 
 
 def matis_matrix(p):
-    """The step matrix of ``p`` assembled unassembled (MATIS) for BDDC: dolfinx's own
-    MATIS with its local matrix preallocated here (see the module docstring)."""
-    import scipy.sparse as sp
-    import dolfinx.fem.petsc as fp
+    """The step matrix of ``p`` assembled unassembled (MATIS) for BDDC
+    (:func:`gsi.fem.compat.assemble_matis`, gsi's own ``pc_type = "bddc"`` path)."""
     import ufl
     from gsi.fem.elasticity import epsilon, sigma_mech
     m = p.material
@@ -293,49 +344,7 @@ def matis_matrix(p):
     c_M, c_K = p.newmark.matrix_weights()
     a = compat.form(c_M * m.rho * ufl.inner(u, w) * dx
                     + c_K * ufl.inner(sigma_mech(u, m.mu, m.lmbda), epsilon(w)) * dx)
-    A = fp.create_matrix(a, "is")
-    L = A.getISLocalMat()
-    cd = compat.cell_dofs(p.V)
-    n_nodes = L.getSize()[0] // 3
-    rows = np.repeat(np.arange(cd.shape[0]), cd.shape[1])
-    B = sp.csr_matrix((np.ones(cd.size), (rows, cd.ravel())), shape=(cd.shape[0], n_nodes))
-    C = (B.T @ B).tocsr()
-    nnz = np.repeat(np.diff(C.indptr) * 3, 3).astype(PETSc.IntType)
-    L.setPreallocationNNZ(nnz)
-    L.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-    A.zeroEntries()
-    fp.assemble_matrix(A, a, bcs=p.bcs)
-    # dolfinx puts the Dirichlet rows' 1 on the diagonal of the owning rank's subdomain
-    # only: the other subdomains sharing the dof keep an empty row (their local Neumann
-    # problem would be singular). Each gets a 1 there too: the assembled diagonal of a
-    # shared Dirichlet dof is then the number of subdomains sharing it, and its solution
-    # stays 0 (its right-hand side is 0, its row and column empty).
-    for bc in p.bcs:
-        dofs, first_ghost = bc.dof_indices()
-        for d in np.asarray(dofs[first_ghost:]):
-            L.setValue(int(d), int(d), 1.0, addv=PETSc.InsertMode.INSERT_VALUES)
-    A.assemble()
-    # The local space of dolfinx's MATIS is the rank's ghosted dofs, which include dofs of
-    # ghost cells that no owned cell touches (the mesh is ghosted by facets): their rows
-    # are empty. The subdomain is restricted to the dofs of its owned cells.
-    n_cells = compat.num_cells_local(p.mesh)
-    used = np.unique(cd[:n_cells].ravel())
-    rows = (3 * used[:, None] + np.arange(3)).ravel().astype(PETSc.IntType)
-    imap, _ = compat.dof_index_map(p.V)
-    if np.setdiff1d(np.arange(imap.size_local), used).size:
-        raise RuntimeError("matis_matrix: an owned dof lies in no owned cell")
-    is_rows = PETSc.IS().createGeneral(rows, comm=PETSc.COMM_SELF)
-    Lsub = L.createSubMatrix(is_rows, is_rows)
-    blocks = A.getLGMap()[0].getBlockIndices()
-    lgmap = PETSc.LGMap().create(blocks[used], bsize=3, comm=A.getComm())
-    B = PETSc.Mat().create(comm=A.getComm())
-    B.setSizes(A.getSizes(), bsize=3)
-    B.setType("is")
-    B.setLGMap(lgmap, lgmap)
-    B.setISLocalMat(Lsub)
-    B.assemble()
-    A.destroy()
-    return B
+    return compat.assemble_matis(a, p.bcs, p.V)
 
 
 def p_multigrid(ksp, p, A):
@@ -357,10 +366,12 @@ def p_multigrid(ksp, p, A):
     return Ac
 
 
-def run_candidate(name, p, A, b, x_ref, max_its, comm):
+def run_candidate(name, p, A, b, x_ref, max_its, comm, rtol=ITERATIVE_RTOL):
     opts = PETSc.Options()
     prefix = f"sp_{name}_"
     settings = dict(CANDIDATES[name])
+    if name.startswith("bddc"):
+        settings.update(BDDC_EXTRA)
     # a copy of its own: the near-nullspace attached to the matrix is the candidate's
     op = matis_matrix(p) if name.startswith("bddc") else A.duplicate(copy=True)
     nsp = near_nullspace(p, op, NULLSPACE.get(name))
@@ -371,7 +382,7 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm):
     for k, v in settings.items():
         opts[prefix + k] = v
     ksp.setOperators(op)
-    ksp.setTolerances(rtol=ITERATIVE_RTOL, atol=0.0, max_it=max_its)
+    ksp.setTolerances(rtol=rtol, atol=0.0, max_it=max_its)
     ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
     ksp.setType("cg")
     ksp.setFromOptions()
@@ -436,10 +447,16 @@ def main() -> None:
                     help="refine uniformly from the --min-dofs mesh (one more element layer "
                          "through the wall per size, h scaled alike); --max-dofs unused")
     ap.add_argument("--max-its", type=int, default=3000)
+    ap.add_argument("--rtol", type=float, default=ITERATIVE_RTOL,
+                    help="CG's relative tolerance (default gsi's ITERATIVE_RTOL)")
+    ap.add_argument("--bddc-set", default="",
+                    help="extra PETSc options of every bddc candidate: k=v,k=v (k without "
+                         "the dash; 'k=' a flag)")
     ap.add_argument("--bjacobi-max-dofs", type=float, default=1.1e5,
                     help="skip bjacobi_lu above this size (a factor per rank)")
     args = ap.parse_args()
     comm = MPI.COMM_WORLD
+    BDDC_EXTRA.update(kv.split("=", 1) for kv in args.bddc_set.split(",") if kv)
     load0 = load_average()
     cands = [c for c in args.candidates.split(",") if c] + (["bddc"] if args.bddc else [])
     structures = [s for s in args.structures.split(",") if s]
@@ -452,7 +469,7 @@ def main() -> None:
             for c in cands:
                 if c == "bjacobi_lu" and p.n_dofs > args.bjacobi_max_dofs:
                     continue
-                r = run_candidate(c, p, A, b, x_ref, args.max_its, comm)
+                r = run_candidate(c, p, A, b, x_ref, args.max_its, comm, args.rtol)
                 if x_ref is None and r.get("reason", -1) > 0:
                     x_ref = r["x"]
                 r.pop("x", None)
@@ -483,8 +500,14 @@ def main() -> None:
             its_max = rs[-1]["its"] if rs[-1]["reason"] > 0 else -1
             g = rs[-1]["its"] / max(rs[0]["its"], 1) if conv else float("nan")
             kv += [f"its_{c}_{st}={its_max}", f"growth_{c}_{st}={g:.3g}"]
+            # every size: iterations (-1: not converged), set-up and solve seconds
+            kv += [f"dofs_{c}_{st}=" + "/".join(str(r["dofs"]) for r in rs),
+                   f"itsall_{c}_{st}=" + "/".join(
+                       str(r["its"] if r["reason"] > 0 else -1) for r in rs),
+                   f"setup_{c}_{st}=" + "/".join(f"{r['setup_s']:.2f}" for r in rs),
+                   f"solve_{c}_{st}=" + "/".join(f"{r['solve_s']:.2f}" for r in rs)]
             if st == "shell" and conv and len(rs) == len(targets) and not (
-                    comm.size == 1 and c in ("bjacobi_lu", "bddc", "bddc_deluxe")):
+                    comm.size == 1 and (c in ("bjacobi_lu", "direct") or c.startswith("bddc"))):
                 growth[c] = (g, rs[-1]["its"], rs[-1]["dofs"])
     if growth:
         best = min(growth, key=lambda c: (growth[c][0], growth[c][1]))

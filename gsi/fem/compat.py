@@ -222,6 +222,59 @@ def assemble_matrix(a, bcs=(), diagonal: float = 1.0) -> PETSc.Mat:
     return A
 
 
+def assemble_matis(a, bcs, V) -> PETSc.Mat:
+    """Assemble ``a`` unassembled (PETSc MATIS, for PCBDDC): one matrix per rank, the sum
+    of the element matrices of the cells it owns, on the dofs of those cells (block size
+    of ``V``); Dirichlet rows and columns of ``bcs`` replaced by 1 on the diagonal of
+    every subdomain holding the dof.
+
+    dolfinx 0.5.2's ``create_matrix(a, "is")`` gives a MATIS whose local matrix has no
+    preallocation (its C++ preallocates before ``MatSetLocalToGlobalMapping``, when MATIS
+    creates the local matrix: the first assembly segfaults), puts the Dirichlet 1 in the
+    owner's subdomain only (the others keep an empty row: a singular Neumann problem) and
+    spans the dofs of ghost cells too (empty rows). Here: the local matrix preallocated
+    from the cell-to-dof map, the 1 added in every sharing subdomain (the assembled
+    diagonal of such a dof is then the number of subdomains sharing it; its right-hand
+    side is 0, so is its solution), and the subdomain restricted to its owned cells' dofs.
+    """
+    import scipy.sparse as sp
+    A = dolfinx.fem.petsc.create_matrix(a, "is")
+    L = A.getISLocalMat()
+    imap, bs = dof_index_map(V)
+    cd = cell_dofs(V)
+    n_nodes = L.getSize()[0] // bs
+    rows = np.repeat(np.arange(cd.shape[0]), cd.shape[1])
+    B = sp.csr_matrix((np.ones(cd.size), (rows, cd.ravel())), shape=(cd.shape[0], n_nodes))
+    C = (B.T @ B).tocsr()
+    L.setPreallocationNNZ(np.repeat(np.diff(C.indptr) * bs, bs).astype(PETSc.IntType))
+    L.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+    A.zeroEntries()
+    dolfinx.fem.petsc.assemble_matrix(A, a, bcs=list(bcs))
+    for bc in bcs:
+        dofs, first_ghost = bc.dof_indices()
+        for d in np.asarray(dofs[first_ghost:]):
+            L.setValue(int(d), int(d), 1.0, addv=PETSc.InsertMode.INSERT_VALUES)
+    A.assemble()
+    n_cells = V.mesh.topology.index_map(V.mesh.topology.dim).size_local
+    used = np.unique(cd[:n_cells].ravel())
+    if np.setdiff1d(np.arange(imap.size_local), used).size:
+        raise RuntimeError("assemble_matis: an owned dof lies in no owned cell")
+    sub = (bs * used[:, None] + np.arange(bs)).ravel().astype(PETSc.IntType)
+    is_sub = PETSc.IS().createGeneral(sub, comm=PETSc.COMM_SELF)
+    Lsub = L.createSubMatrix(is_sub, is_sub)
+    blocks = A.getLGMap()[0].getBlockIndices()
+    lgmap = PETSc.LGMap().create(blocks[used], bsize=bs, comm=A.getComm())
+    P = PETSc.Mat().create(comm=A.getComm())
+    P.setSizes(A.getSizes(), bsize=bs)
+    P.setType("is")
+    P.setLGMap(lgmap, lgmap)
+    P.setISLocalMat(Lsub)
+    P.assemble()
+    A.destroy()
+    is_sub.destroy()
+    return P
+
+
 def create_vector(L) -> PETSc.Vec:
     return dolfinx.fem.petsc.create_vector(L)
 

@@ -230,7 +230,7 @@ class Elasticity(Problem):
         self._F_old.set(0.0)
         self._wM = self._b.duplicate()
         self._wK = self._b.duplicate()
-        self._make_solver(A, near_nullspace=lambda: rigid_body_modes(self.V, A))
+        self._make_solver(A, self._a_eff, near_nullspace=lambda: rigid_body_modes(self.V, A))
 
     def load_sum(self) -> np.ndarray:
         """Sum over all vertices of the assembled load vector per component (N), (3,)."""

@@ -187,8 +187,11 @@ class Problem:
         compat.assemble_vector_ghosted(out, self._f)
         out.array[:] += self.nodal.values
 
-    def _make_solver(self, A, **kw) -> None:
-        """Build and factorize the solver of the step matrix ``A`` (once per run)."""
+    def _make_solver(self, A, a_form=None, **kw) -> None:
+        """Build and factorize the solver of the step matrix ``A`` (once per run), the
+        assembled form of ``a_form`` (given: BDDC may assemble it unassembled, MATIS)."""
+        if a_form is not None:
+            kw["matis"] = lambda: compat.assemble_matis(a_form, self.bcs, self.V)
         self._solver = make_solver(A, self.comm, kind=self.solver_kind, problem=self.kind,
                                    factorization=self.factorization,
                                    petsc_options=self.petsc_options,

@@ -399,6 +399,8 @@ class IterativeSolver(LinearSolver):
     ----------
     A, comm, problem, petsc_options, options_key
         As :class:`LinearSolver`.
+    matis : callable, optional
+        Makes A unassembled (:func:`gsi.fem.compat.assemble_matis`), for ``pc_type = "bddc"``.
     near_nullspace : PETSc.NullSpace or callable, optional
         Near-nullspace of A (elasticity: :func:`rigid_body_modes`), or a function making
         it; attached to A for GAMG, and for BoomerAMG only when the user asks for
@@ -422,16 +424,30 @@ class IterativeSolver(LinearSolver):
 
     def __init__(self, A: PETSc.Mat, comm: MPI.Comm, *, problem: str, petsc_options=None,
                  options_key: str = "structure.petsc", near_nullspace=None,
-                 rtol: float = ITERATIVE_RTOL):
+                 rtol: float = ITERATIVE_RTOL, matis=None):
         super().__init__(A, comm, problem=problem, petsc_options=petsc_options,
                          options_key=options_key)
         defaults = iterative_defaults(problem, self.user_options.get("pc_type"),
                                       hypre=_hypre_available())
+        if rtol != ITERATIVE_RTOL:      # a caller's own tolerance wins over a type's default
+            defaults.pop("ksp_rtol", None)
         self.defaults = defaults
-        wants = defaults["pc_type"] == "gamg" or any(
+        self.P = None
+        target = A
+        if defaults["pc_type"] == "bddc":
+            if matis is None:
+                raise GsiInputError(f"{options_key}.pc_type = 'bddc': BDDC is available for "
+                                    "elasticity only; use pc_type = 'hypre' or 'gamg' here")
+            if comm.size == 1:  # one subdomain: PETSc 3.18 fails from its 2nd solve (-11)
+                raise GsiInputError(f"{options_key}.pc_type = 'bddc': needs 2 or more MPI "
+                                    "ranks (a subdomain per rank); on one rank use "
+                                    "solver = 'direct'")
+            self.P = target = matis()            # BDDC's own (unassembled) copy of A
+            self.ksp.setOperators(A, self.P)       # CG multiplies by A itself
+        wants = defaults["pc_type"] in ("gamg", "bddc") or any(
             k.startswith("pc_hypre_boomeramg_vec_interp") for k in self.user_options)
         if near_nullspace is not None and wants:
-            A.setNearNullSpace(near_nullspace() if callable(near_nullspace) else near_nullspace)
+            target.setNearNullSpace(near_nullspace() if callable(near_nullspace) else near_nullspace)
         ksp = self.ksp
         self._configure_scratch(ksp)
         ksp.setTolerances(rtol=rtol, atol=0.0, max_it=10000)
@@ -455,6 +471,10 @@ class IterativeSolver(LinearSolver):
             self.ksp.setTolerances(atol=ITERATIVE_ATOL * bnorm)
         return super()._solve(b, x)
 
+    def destroy(self) -> None:
+        super().destroy()
+        _ = self.P is not None and self.P.destroy()
+
     def _failure(self, reason: int) -> str:
         its = self.ksp.getIterationNumber()
         rnorm = self.ksp.getResidualNorm()
@@ -466,7 +486,7 @@ class IterativeSolver(LinearSolver):
 def make_solver(A: PETSc.Mat, comm: MPI.Comm, *, kind: str, problem: str,
                 factorization: str = "lu", petsc_options=None,
                 options_key: str = "structure.petsc", near_nullspace=None,
-                rtol: float = ITERATIVE_RTOL) -> LinearSolver:
+                rtol: float = ITERATIVE_RTOL, matis=None) -> LinearSolver:
     """The solver of ``kind`` ("direct", "out_of_core" or "iterative", see
     :func:`gsi.fem.options.choose_solver`)."""
     if kind == "direct":
@@ -476,4 +496,5 @@ def make_solver(A: PETSc.Mat, comm: MPI.Comm, *, kind: str, problem: str,
         return OutOfCoreSolver(A, comm, problem=problem, petsc_options=petsc_options,
                                options_key=options_key)
     return IterativeSolver(A, comm, problem=problem, petsc_options=petsc_options,
-                           options_key=options_key, near_nullspace=near_nullspace, rtol=rtol)
+                           options_key=options_key, near_nullspace=near_nullspace, rtol=rtol,
+                           matis=matis)

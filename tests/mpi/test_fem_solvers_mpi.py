@@ -65,7 +65,8 @@ def test_shell_same_on_1_and_2_ranks(tmp_path, solver):
 def test_iterative_matches_direct_on_thin_walls_on_2_ranks(tmp_path):
     """The coarse shell and plate of tests/unit/fem/test_fem_iterative_thin.py on 2 ranks:
     CG + BoomerAMG against the direct solver (SuperLU_DIST on 2 ranks), static,
-    generalized-alpha and heat, to the same 1e-8 of the largest value."""
+    generalized-alpha and heat, to the same 1e-8 of the largest value; and CG + BDDC
+    (``pc_type = "bddc"``, two subdomains), static and generalized-alpha."""
     r = mpirun.run_json(HERE / "thin_solver_mpi_case.py", 2, tmp_path / "thin.json")
     assert r["n_ranks"] == 2
     for name in ("shell", "plate"):
@@ -75,3 +76,9 @@ def test_iterative_matches_direct_on_thin_walls_on_2_ranks(tmp_path):
         assert min(min(its) for its in it["its"]) > 1
         for key, err in r[name]["errors"].items():
             assert err <= TOL, f"{name} {key}: {err:.2e}"
+        # pc_type = "bddc": a subdomain per rank, CG to its 1e-10 (gsi.fem.options)
+        bd = r[name]["bddc"]
+        assert bd["pcs"][:2] == ["cg + bddc"] * 2 and bd["kinds"][:2] == ["iterative"] * 2
+        assert min(min(its) for its in bd["its"][:2]) > 1
+        for key, err in r[name]["bddc_errors"].items():
+            assert err <= TOL, f"{name} bddc {key}: {err:.2e}"

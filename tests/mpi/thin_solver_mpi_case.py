@@ -20,18 +20,22 @@ from gsi.fem.heat import Heat
 from gsi.meshes import shell
 
 
-def _fields(sm, dt, solver):
-    s = Elasticity(sm, "steel", degree=2, gravity=(0.0, 0.0, -9.81), solver=solver)
+def _fields(sm, dt, solver, petsc=None):
+    """Static and dynamic elasticity (and heat unless ``petsc`` is given: BDDC is
+    elasticity's) with ``solver``."""
+    s = Elasticity(sm, "steel", degree=2, gravity=(0.0, 0.0, -9.81), solver=solver,
+                   petsc_options=petsc)
     s.clamp("support")
     s.set_traction("contact", [1.0e3, 0.0, -2.0e4])
     s.solve()
     d = Elasticity(sm, "steel", degree=2, scheme="generalized_alpha", dt=dt, rho_inf=0.3,
-                   gravity=(0.0, 0.0, -9.81), solver=solver)
+                   gravity=(0.0, 0.0, -9.81), solver=solver, petsc_options=petsc)
     d.clamp("support")
     for k in range(2):
         d.set_traction("contact", [0.0, 1.0e3 * k, -2.0e4])
         d.step()
-    h = Heat(sm, "steel", dt=1.0, T_initial=20.0, degree=2, solver=solver)
+    h = Heat(sm, "steel", dt=1.0, T_initial=20.0, degree=2,
+             solver=solver if petsc is None else "direct")
     h.fix_temperature("support", 80.0)
     h.set_convection("outer", 25.0, 20.0)
     h.set_flux("contact", 2.0e3)
@@ -67,6 +71,15 @@ def main(out_path):
         r_ref, r_it = np.array(dinfo["reaction"]), np.array(iinfo["reaction"])
         errs["reaction"] = float(np.abs(r_it - r_ref).max() / np.abs(r_ref).max())
         res[name] = dict(errors=errs, direct=dinfo, iterative=iinfo)
+        if comm.size > 1:               # BDDC: a subdomain per rank
+            bd, binfo = _fields(sm, dt, "iterative", {"pc_type": "bddc"})
+            res[name]["bddc"] = binfo
+            res[name]["bddc_errors"] = {}
+            for key in ("static u", "dynamic u", "dynamic v", "dynamic a"):
+                diff = comm.allreduce(float(np.abs(bd[key] - ref[key]).max(initial=0.0)),
+                                      op=MPI.MAX)
+                top = comm.allreduce(float(np.abs(ref[key]).max(initial=0.0)), op=MPI.MAX)
+                res[name]["bddc_errors"][key] = diff / top
     if comm.rank == 0:
         with open(out_path, "w") as fh:
             json.dump(res, fh)

@@ -74,3 +74,21 @@ def test_iterative_matches_direct_on_thin_walls(thin, direct, petsc, pc):
     for name, ref in direct.items():
         err = np.abs(fields[name] - ref).max() / np.abs(ref).max()
         assert err <= AGREE, f"{name}: {err:.2e}"
+
+
+
+def test_bddc_refused_on_one_rank_and_for_heat(thin):
+    """``pc_type = "bddc"`` (BDDC on the MATIS step matrix, a subdomain per rank: see
+    gsi.fem.options) is elasticity's, on 2 or more ranks (its match with the direct
+    solver: tests/mpi/test_fem_solvers_mpi.py); elsewhere a one-line input error."""
+    from gsi.errors import GsiInputError
+    s = Elasticity(thin[0], "steel", degree=2, solver="iterative",
+                   petsc_options={"pc_type": "bddc"})
+    s.clamp("support")
+    with pytest.raises(GsiInputError, match="pc_type = 'bddc': needs 2 or more MPI ranks"):
+        s.solve()
+    h = Heat(thin[0], "steel", dt=1.0, T_initial=20.0, degree=2, solver="iterative",
+             petsc_options={"pc_type": "bddc"})
+    h.fix_temperature("support", 80.0)
+    with pytest.raises(GsiInputError, match="pc_type = 'bddc'.*elasticity only"):
+        h.step()
