@@ -256,6 +256,34 @@ def _span(mn, mx, inflate, lo, inv_cs, dim):
 
 
 @njit
+def _triangle(mv_x, mt, t):
+    """The corners a, b, c of triangle t and its (unnormalised) normal N = (b-a) x (c-a)."""
+    a = mt[t, 0]
+    b = mt[t, 1]
+    c = mt[t, 2]
+    ax, ay, az = mv_x[a, 0], mv_x[a, 1], mv_x[a, 2]
+    bx, by, bz = mv_x[b, 0], mv_x[b, 1], mv_x[b, 2]
+    cx, cy, cz = mv_x[c, 0], mv_x[c, 1], mv_x[c, 2]
+    Nx, Ny, Nz = triangle_normal(ax, ay, az, bx, by, bz, cx, cy, cz)
+    return ax, ay, az, bx, by, bz, cx, cy, cz, Nx, Ny, Nz
+
+
+@njit
+def _push(ent_a, ent_t, m, a, t):
+    """Entry m = (a, t) of the two entry buffers of a triangle search, which double when
+    full; returns them."""
+    if m == ent_a.shape[0]:
+        na = np.empty(max(2 * m, 64), ent_a.dtype)
+        nt = np.empty(max(2 * m, 64), ent_t.dtype)
+        na[:m] = ent_a[:m]
+        nt[:m] = ent_t[:m]
+        ent_a, ent_t = na, nt
+    ent_a[m] = a
+    ent_t[m] = t
+    return ent_a, ent_t
+
+
+@njit
 def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
     """Triangles per cell: each triangle goes into the cells of its bounding box
     (inflated by ``inflate``, m) whose centre lies within half a cell diagonal plus
@@ -278,13 +306,8 @@ def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
     ent_tri = np.empty(cap, np.int32)
     m = 0
     for t in range(nt):
-        a = mt[t, 0]
-        b = mt[t, 1]
-        c_ = mt[t, 2]
-        ax_, ay_, az_ = mv_x[a, 0], mv_x[a, 1], mv_x[a, 2]
-        bx_, by_, bz_ = mv_x[b, 0], mv_x[b, 1], mv_x[b, 2]
-        cx_, cy_, cz_ = mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2]
-        Nx, Ny, Nz = triangle_normal(ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_)
+        (ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_,
+         Nx, Ny, Nz) = _triangle(mv_x, mt, t)
         N2 = Nx * Nx + Ny * Ny + Nz * Nz
         k0, k1 = _span(min(ax_, bx_, cx_), max(ax_, bx_, cx_), inflate, lo[0], inv_cs[0],
                        dims[0])
@@ -305,15 +328,8 @@ def bin_triangles(mv_x, mt, lo, inv_cs, dims, inflate):
                         px, py, pz, ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_)
                     if (qx - px) ** 2 + (qy - py) ** 2 + (qz - pz) ** 2 > reach2:
                         continue
-                    if m == cap:                  # grow the entry buffers
-                        cap *= 2
-                        nc = np.empty(cap, np.int64)
-                        ntr = np.empty(cap, np.int32)
-                        nc[:m] = ent_cell[:m]
-                        ntr[:m] = ent_tri[:m]
-                        ent_cell, ent_tri = nc, ntr
-                    ent_cell[m] = (ax * dims[1] + ay) * dims[2] + az
-                    ent_tri[m] = t
+                    ent_cell, ent_tri = _push(ent_cell, ent_tri, m,
+                                              (ax * dims[1] + ay) * dims[2] + az, t)
                     m += 1
     counts, order = bin_cells(m, ent_cell, ncell)  # stable: ascending triangles per cell
     return counts, ent_tri[order]
@@ -365,13 +381,8 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
     ent_t = np.empty(cap, np.int32)
     m = 0
     for t in range(nt):
-        a = mt[t, 0]
-        b = mt[t, 1]
-        c_ = mt[t, 2]
-        ax_, ay_, az_ = mv_x[a, 0], mv_x[a, 1], mv_x[a, 2]
-        bx_, by_, bz_ = mv_x[b, 0], mv_x[b, 1], mv_x[b, 2]
-        cx_, cy_, cz_ = mv_x[c_, 0], mv_x[c_, 1], mv_x[c_, 2]
-        Nx, Ny, Nz = triangle_normal(ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_)
+        (ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_,
+         Nx, Ny, Nz) = _triangle(mv_x, mt, t)
         N2 = Nx * Nx + Ny * Ny + Nz * Nz
         x_lo, x_hi = min(ax_, bx_, cx_), max(ax_, bx_, cx_)
         y_lo, y_hi = min(ay_, by_, cy_), max(ay_, by_, cy_)
@@ -410,15 +421,7 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
                         d2 = (qx - x[i, 0]) ** 2 + (qy - x[i, 1]) ** 2 + (qz - x[i, 2]) ** 2
                         if not d2 < rc2:
                             continue
-                        if m == cap:                  # grow the entry buffers
-                            cap *= 2
-                            ni = np.empty(cap, np.int64)
-                            ntr = np.empty(cap, np.int32)
-                            ni[:m] = ent_i[:m]
-                            ntr[:m] = ent_t[:m]
-                            ent_i, ent_t = ni, ntr
-                        ent_i[m] = i
-                        ent_t[m] = t
+                        ent_i, ent_t = _push(ent_i, ent_t, m, i, t)
                         m += 1
     mc_start, order = bin_cells(m, ent_i, n)      # stable: ascending triangles per particle
     return mc_start, ent_t[order]
