@@ -111,3 +111,48 @@ def test_sliding_across_triangle_edges_drift_falls_with_dt(contact, record_valid
         assert cap == pytest.approx((0.5 * MG) ** 2 / (2.0 * 2.0 / 7.0 * 200.0), rel=1e-3)
     assert v > 5.0 / 7.0 * np.hypot(0.3, 0.1) * 1.02          # still sliding at the end
     assert abs(D0) < cap
+
+
+@pytest.mark.parametrize("frictional_heating", [False, True])
+def test_particles_leaving_the_domain_take_their_energy_out(frictional_heating,
+                                                           record_validation):
+    """Twelve spheres thrown in free flight (random velocities up to 1 m/s in the y-z
+    plane, each in its own plane x = const 2.9 mm or more apart, so they never touch;
+    random spins, temperatures 1-3 K, c_p = 1 J/(kg K)) in a 40 mm box: most leave it,
+    at different steps.  In free flight velocity Verlet conserves 1/2 m v^2 + 1/2 I w^2 - m g.x
+    exactly (a constant force), and T and w are constant, so the energy a sphere takes
+    out is its initial E_i = 1/2 m v0^2 + 1/2 I w0^2 - m g.x0 + m c_p T0: the book's
+    ``lost`` must equal the sum over the spheres that left, and the drift must stay at
+    round-off (before ``lost`` was booked: the drift was minus that sum)."""
+    rng = np.random.default_rng(5)
+    n, L, dt = 12, 0.02, 1e-5
+    m = Material(E=5e6, nu=0.3, rho=2500.0, e=0.5, mu=0.5, cp=1.0)
+    sim = Simulation({"g": m}, contact="hertz", gravity=(0.0, 0.0, -9.81), dt=dt,
+                     skin=0.4 * R, domain=((-L, -L, -L), (L, L, L)),
+                     frictional_heating=frictional_heating)
+    x0 = np.c_[np.linspace(-0.8, 0.8, n) * L, rng.uniform(-0.5, 0.5, (n, 2)) * L]
+    v0 = np.c_[np.zeros(n), rng.uniform(-1.0, 1.0, (n, 2))]
+    w0 = rng.uniform(-50.0, 50.0, (n, 3))
+    T0 = rng.uniform(1.0, 3.0, n)
+    ids = sim.add_particles(x0, R, material="g", v=v0, omega=w0, T=T0)
+    mass = 2500.0 * 4.0 / 3.0 * np.pi * R ** 3
+    E0 = (0.5 * mass * (v0 ** 2).sum(1) + 0.5 * 0.4 * mass * R ** 2 * (w0 ** 2).sum(1)
+          + mass * 9.81 * x0[:, 2] + mass * 1.0 * T0)
+    audit = EnergyAudit(sim)
+    sim.step(int(round(0.025 / dt)))
+    p = audit.sample()
+    left = ~np.isin(ids, sim.ids)
+    scale = np.abs(E0).sum()
+    record_validation(f"Energy audit, {n} spheres thrown out of the domain in free flight "
+                      f"(frictional heating {'on' if frictional_heating else 'off'}): "
+                      "|drift| / |energy|", reference=0.0, measured=abs(p["drift"]) / scale,
+                      tolerance=1e-12, kind="abs",
+                      source="velocity Verlet's exact free flight (docs/design.md, Energy "
+                             "audit)",
+                      note=f"{left.sum()} of {n} left at different steps; lost "
+                           f"{p['lost']:.6e} J, their initial energy {E0[left].sum():.6e} J "
+                           "(before the booking: the drift)")
+    assert 3 <= sim.n_lost == left.sum() < n
+    assert sim.contact_count() == 0 and p["elastic"] == 0.0
+    assert p["lost"] == pytest.approx(E0[left].sum(), rel=0.0, abs=1e-12 * scale)
+    assert abs(p["drift"]) <= 1e-12 * scale
