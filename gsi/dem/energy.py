@@ -156,8 +156,9 @@ def wall_elastic_energy(P, pairs, pl, M, wc, table, hertz, sel):
 
 def _elastic(sim, sel):
     """(normal, tangential) elastic energy (J) of the contacts touching the particles
-    where ``sel`` is nonzero (0 before the first list build: no contacts known)."""
-    if not sim.flags.built:
+    where ``sel`` is nonzero (0 while the lists are not those of the current rows: before
+    the first build, or after particles were added or removed, until the next step)."""
+    if not (sim.flags.built and np.array_equal(sim.ids_at_build, sim.ids)):
         return 0.0, 0.0
     P = sim.particles
     hertz = int(sim.engine.model[M_NORMAL]) == _HERTZ
