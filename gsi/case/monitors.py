@@ -32,7 +32,7 @@ Each ``[[monitors]]`` table is one :class:`Monitor`; its ``kind`` says what it m
 ``energy``
     The energy book of the particles (:mod:`gsi.dem.energy`): kinetic, elastic (contact
     springs), gravitational and thermal energy, the energy particles lost from the domain
-    carried out, the work of moving walls on them, the heat from walls into them, the
+    carried out and the energy particles added (inserted) brought in, the work of moving walls on them, the heat from walls into them, the
     walls' share of the frictional heat, the heat that friction generated, and the
     book's drift since the first sample of the run (J, and relative to the heat generated
     + kinetic + elastic energy; a run resumed with ``--resume`` continues the book of the
@@ -68,7 +68,8 @@ _COLUMNS = {
                   "load_y_N", "load_z_N"],
     "particles": ["count", "lost", "kinetic_energy_J", "contacts", "bed_top_m"],
     "mixing": ["lacey", "cells", "mean_count"],
-    "energy": ["kinetic_J", "elastic_J", "gravity_J", "thermal_J", "lost_J", "wall_work_J",
+    "energy": ["kinetic_J", "elastic_J", "gravity_J", "thermal_J", "lost_J", "added_J",
+               "wall_work_J",
                "boundary_heat_J", "friction_to_walls_J", "heat_generated_J", "drift_J",
                "drift_rel"],
 }

@@ -1,6 +1,7 @@
 """The energy book of a DEM run (docs/design.md, "Energy audit").
 
-    E_book = E_kin + E_el + E_grav + E_th + E_lost - W_walls - Q_walls + Q_friction,walls
+    E_book = E_kin + E_el + E_grav + E_th + E_lost - E_added - W_walls - Q_walls
+             + Q_friction,walls
 
 is constant:
 
@@ -11,8 +12,13 @@ is constant:
 - ``gravity``: -sum m g . x (J);
 - ``thermal``: sum m c_p T of the particles (J);
 - ``lost``: the energy the particles removed so far carried out of the book
-  (:func:`removed_energy`: kinetic, elastic, gravitational and thermal, J; accumulated
+  (:func:`particle_energy`: kinetic, elastic, gravitational and thermal, J; accumulated
   in ``sim.lost_energy`` by :meth:`gsi.dem.Simulation.remove_particles`);
+- ``added``: the energy the particles added so far brought in (an inserter's stream, a
+  fill; kinetic, gravitational and thermal at their addition, J, ``sim.added_energy``,
+  booked by :meth:`gsi.dem.Simulation.add_particles`; particles added before an audit
+  starts cancel out of its drift).  Particles added overlapping others bring elastic
+  energy too, which the book does not see (an inserter places them apart);
 - ``wall_work``: work of the planes and mesh walls on the particles, sum F . v_wall dt
   (J, accumulated by the engine);
 - ``boundary_heat``: heat from walls with a temperature (conduction, and radiation from
@@ -43,8 +49,9 @@ dissipate leaves the book: the drift is then that energy.  With it on
   in free flight), while its partners miss that step's contact force (first order).
 
 A run resumed from a checkpoint continues the same book: the baseline of the run's
-audit (:meth:`EnergyAudit.of_run`, ``sim.energy_book0``), ``sim.lost_energy`` and the
-walls' accumulators are in the checkpoint (:mod:`gsi.dem.checkpoint_state`).
+audit (:meth:`EnergyAudit.of_run`, ``sim.energy_book0``), ``sim.lost_energy``,
+``sim.added_energy`` and the walls' accumulators are in the checkpoint
+(:mod:`gsi.dem.checkpoint_state`).
 
 Energies are in J; :func:`energy_parts` returns them as a dict.
 """
@@ -71,8 +78,15 @@ def _spring_energy(hertz, delta, R_eff, xx, xy, xz, tab, row):
     return 0.5 * k_n * delta * delta, 0.5 * K_T_OVER_K_N * k_n * xi2
 
 
-#: the parts of ``sim.lost_energy`` (J): what the removed particles carried
+#: the parts of ``sim.lost_energy`` and ``sim.added_energy`` (J): what the removed (added)
+#: particles carried
 LOST_PARTS = ("kinetic", "elastic", "gravity", "thermal", "heat_friction")
+
+
+def new_flows():
+    """``(lost_energy, added_energy, energy_book0)`` of a new simulation: nothing removed
+    or added yet (by :data:`LOST_PARTS`, J), no audit of the run started."""
+    return np.zeros(len(LOST_PARTS)), np.zeros(len(LOST_PARTS)), None
 
 
 @njit
@@ -169,7 +183,7 @@ def _elastic(sim, sel):
     return a[0] + b[0], a[1] + b[1]
 
 
-def removed_energy(sim, mask, *, mid_step):
+def particle_energy(sim, mask, *, mid_step=False):
     """The energy (J) of the particles where ``mask`` is true, by :data:`LOST_PARTS`
     (the last, the frictional heat they hold, is part of their thermal energy): what
     they take out of the book when removed.  ``mid_step`` (particles that left the
@@ -208,6 +222,7 @@ def energy_parts(sim):
     grav = -float(P.mass @ (P.x @ np.asarray(sim.g, float)))
     thermal = float((P.T / P.mcp_inv).sum()) if len(P.T) else 0.0
     lost = float(sim.lost_energy[:4].sum())
+    added = float(sim.added_energy[:4].sum())
     work = float(pl.work.sum() + M.wall_work.sum())
     # plane and wall accumulators hold conduction and radiation; the enclosure its own
     q_in = float(pl.heat.sum() + M.wall_heat.sum()) + sim.walls.heat_reset
@@ -215,10 +230,10 @@ def energy_parts(sim):
     fr_walls = float(pl.friction_heat.sum() + M.wall_friction_heat.sum())
     fr_particles = float(P.heat_friction.sum()) if len(P.heat_friction) else 0.0
     parts = dict(kinetic=kin, elastic=En + Et, elastic_tangential=Et, gravity=grav,
-                 thermal=thermal, lost=lost, wall_work=work, boundary_heat=q_in,
+                 thermal=thermal, lost=lost, added=added, wall_work=work, boundary_heat=q_in,
                  friction_to_walls=fr_walls,
                  heat_generated=fr_particles + float(sim.lost_energy[4]) + fr_walls)
-    parts["book"] = kin + En + Et + grav + thermal + lost - work - q_in + fr_walls
+    parts["book"] = kin + En + Et + grav + thermal + lost - added - work - q_in + fr_walls
     return parts
 
 
