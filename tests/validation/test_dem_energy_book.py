@@ -1,10 +1,11 @@
-"""The energy book's three outflows beyond the closed box (:mod:`gsi.dem.energy`,
-docs/design.md, "Energy audit"): the spring of a mesh-triangle contact that ends, the
-particles lost from the domain, and the book across a restart.
+"""The energy book beyond the closed box (:mod:`gsi.dem.energy`, docs/design.md,
+"Energy audit"): the spring of a mesh-triangle contact that ends, the particles lost from
+the domain and those added to it, and the book across a restart.
 
-One sphere (R = 1 mm, E = 5 MPa, mu = 0.5, e = 0.5) with frictional heating: small
-enough to run in seconds, and free of chaos, so a trajectory is compared with another
-run's bit for bit or to round-off (no ensemble needed).
+Mostly one sphere or a few in free flight (R = 1 mm, E = 5 MPa, mu = 0.5, e = 0.5):
+small enough to run in seconds, and free of chaos, so a trajectory is compared with
+another run's bit for bit or to round-off (no ensemble needed); the hopper outflow, a
+dense flow, is judged on an ensemble.
 
 - A triangle contact that ends (the sphere leaves the mesh, or slides onto the next
   triangle of the same surface): its tangential spring's energy becomes heat.  A bounce
@@ -16,6 +17,12 @@ run's bit for bit or to round-off (no ensemble needed).
   integration), its part that does not (extrapolated to dt -> 0) below the energy of one
   spring at the Coulomb cap (before the booking: 12.9 such springs linear, 16.1 Hertz,
   the drift -2.93e-10 / -2.95e-10 J (linear) at dt = 2e-6 / 1e-6 s, not falling).
+- Particles that leave the domain take their energy out (``lost``), those added bring
+  theirs in (``added``): in free flight the book closes to round-off (velocity Verlet
+  is exact under a constant force), and a hopper's outflow leaves only time
+  integration in the drift.
+- A run restored from its state continues the book bit for bit (the CLI's ``--resume``:
+  tests/reliability/test_restart.py, whose case has an ``energy`` monitor).
 """
 import numpy as np
 import pytest
