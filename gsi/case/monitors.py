@@ -31,11 +31,13 @@ Each ``[[monitors]]`` table is one :class:`Monitor`; its ``kind`` says what it m
     randomly mixed. Also the number of cells kept and their mean count.
 ``energy``
     The energy book of the particles (:mod:`gsi.dem.energy`): kinetic, elastic (contact
-    springs), gravitational and thermal energy, the work of moving walls on them, the
-    heat from walls into them, the walls' share of the frictional heat, the heat that
-    friction generated, and the book's drift since the first sample of this run (J, and
-    relative to the heat generated + kinetic + elastic energy). Without
-    ``dem.frictional_heating`` the drift is the dissipated energy.
+    springs), gravitational and thermal energy, the energy particles lost from the domain
+    carried out and the energy particles added (inserted) brought in, the work of moving walls on them, the heat from walls into them, the
+    walls' share of the frictional heat, the heat that friction generated, and the
+    book's drift since the first sample of the run (J, and relative to the heat generated
+    + kinetic + elastic energy; a run resumed with ``--resume`` continues the book of the
+    run it resumes). Without ``dem.frictional_heating`` the drift is the dissipated
+    energy.
 
 A monitor samples every ``interval`` seconds of simulated time (default: the output
 interval); the runner makes sure a sample falls on each multiple of it.
@@ -66,7 +68,8 @@ _COLUMNS = {
                   "load_y_N", "load_z_N"],
     "particles": ["count", "lost", "kinetic_energy_J", "contacts", "bed_top_m"],
     "mixing": ["lacey", "cells", "mean_count"],
-    "energy": ["kinetic_J", "elastic_J", "gravity_J", "thermal_J", "wall_work_J",
+    "energy": ["kinetic_J", "elastic_J", "gravity_J", "thermal_J", "lost_J", "added_J",
+               "wall_work_J",
                "boundary_heat_J", "friction_to_walls_J", "heat_generated_J", "drift_J",
                "drift_rel"],
 }
@@ -213,11 +216,11 @@ class Monitor:
                 top]
 
     def _energy_row(self, sim) -> list[float]:
-        """The ``energy`` row; the book's reference is the first sample of this process
-        (after a restart: the restart)."""
+        """The ``energy`` row; the book's reference is the run's first sample, kept in
+        the simulation and its checkpoints (:meth:`gsi.dem.energy.EnergyAudit.of_run`)."""
         from gsi.dem.energy import EnergyAudit
         audit = getattr(self, "_audit", None)
         if audit is None or audit.sim is not sim:
-            audit = self._audit = EnergyAudit(sim)
+            audit = self._audit = EnergyAudit.of_run(sim)
         p = audit.sample()
         return [p[k[:-2]] for k in _COLUMNS["energy"][:-1]] + [p["drift_rel"]]

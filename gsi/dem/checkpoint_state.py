@@ -54,8 +54,11 @@ def capture(sim):
     ``mesh.<field>``: positions, velocities, the forces and torques of the last step,
     the tangential springs of pair, plane and triangle contacts, the neighbour lists
     they live on, the walls' positions, velocities, omega, centres and accumulators),
-    the counters (``time`` s, ``step_count``, ``n_lost``, ``next_id``), the flags of
-    the step loop (whether the forces of the last step are valid: forces are NOT
+    the counters (``time`` s, ``step_count``, ``n_lost``, ``next_id``), the energy
+    book's own accumulators (``energy``: whether the run's audit has started, its
+    baseline ``sim.energy_book0`` and the walls' reset heat; ``energy.lost``:
+    ``sim.lost_energy``; ``energy.added``: ``sim.added_energy``), the flags of the step
+    loop (whether the forces of the last step are valid: forces are NOT
     recomputed on a resume, since recomputing them advances the tangential springs),
     the random generator's bit-generator state (``rng.*``) and each inserter's
     state (``ins<i>.*``), each wall driver's state (``drv<i>``: next update, velocity,
@@ -73,6 +76,10 @@ def capture(sim):
                               sim.n_rebuilds, sim.n_planes, sim.store.slots,
                               len(sim.inserters)], np.int64)
     d["flags"] = np.array(sim.flags.values(), np.uint8)
+    b0 = sim.energy_book0
+    d["energy"] = np.array([b0 is not None, b0 or 0.0, sim.walls.heat_reset], np.float64)
+    d["energy.lost"] = np.array(sim.lost_energy, np.float64)
+    d["energy.added"] = np.array(sim.added_energy, np.float64)
     d.update({f"rng.{k}": v for k, v in rng_state_arrays(sim.rng.bit_generator.state).items()})
     for i, ins in enumerate(sim.inserters):
         d.update({f"ins{i}.{k}": v for k, v in ins.state().items()})
@@ -115,6 +122,11 @@ def restore(sim, d):
     sim.step_count, sim.n_lost, sim.next_id = step_count, n_lost, next_id
     sim.n_rebuilds = n_rebuilds
     sim.flags.set_values(bool(v) for v in d["flags"])
+    # the energy book (checkpoints before it: a new baseline at the first audit)
+    has_b0, b0, sim.walls.heat_reset = (float(v) for v in d.get("energy", (0, 0, 0)))
+    sim.energy_book0 = b0 if has_b0 else None
+    sim.lost_energy[:] = d.get("energy.lost", 0.0)
+    sim.added_energy[:] = d.get("energy.added", 0.0)
     sim.rng.bit_generator.state = rng_state_from_arrays(
         {k[4:]: v for k, v in d.items() if k.startswith("rng.")})
     for i, ins in enumerate(sim.inserters):

@@ -1,8 +1,9 @@
 """The energy book of a DEM run (docs/design.md, "Energy audit").
 
-    E_book = E_kin + E_el + E_grav + E_th - W_walls - Q_walls + Q_friction,walls
+    E_book = E_kin + E_el + E_grav + E_th + E_lost - E_added - W_walls - Q_walls
+             + Q_friction,walls
 
-is constant in a run whose particles stay in the domain:
+is constant:
 
 - ``kinetic``: sum 1/2 m v^2 + 1/2 I omega^2 (J);
 - ``elastic``: the contact springs -- the normal overlap, Hertz 8/15 E* sqrt(R*)
@@ -10,6 +11,14 @@ is constant in a run whose particles stay in the domain:
   the k_t of the current overlap (J);
 - ``gravity``: -sum m g . x (J);
 - ``thermal``: sum m c_p T of the particles (J);
+- ``lost``: the energy the particles removed so far carried out of the book
+  (:func:`particle_energy`: kinetic, elastic, gravitational and thermal, J; accumulated
+  in ``sim.lost_energy`` by :meth:`gsi.dem.Simulation.remove_particles`);
+- ``added``: the energy the particles added so far brought in (an inserter's stream, a
+  fill; kinetic, gravitational and thermal at their addition, J, ``sim.added_energy``,
+  booked by :meth:`gsi.dem.Simulation.add_particles`; particles added before an audit
+  starts cancel out of its drift).  Particles added overlapping others bring elastic
+  energy too, which the book does not see (an inserter places them apart);
 - ``wall_work``: work of the planes and mesh walls on the particles, sum F . v_wall dt
   (J, accumulated by the engine);
 - ``boundary_heat``: heat from walls with a temperature (conduction, and radiation from
@@ -32,10 +41,17 @@ dissipate leaves the book: the drift is then that energy.  With it on
   delta) changes with the overlap while the spring xi stays; the spring is rotated into
   the new tangent plane and truncated at the Coulomb cap; a contact can end with a
   loaded spring): frictional heating books each of these energy changes as heat, per
-  contact and step, and a spring's energy at its contact's end
-  (:mod:`gsi.dem.contact.dissipation`, :mod:`gsi.dem.spring_heat`), so they leave no
-  drift -- except a mesh-triangle contact's spring at its end, which leaves the book;
-- particles that leave the domain take their energy with them (not booked).
+  contact and step, and a spring's energy at its contact's end -- pair, plane and
+  mesh-triangle contacts (:mod:`gsi.dem.contact.dissipation`,
+  :mod:`gsi.dem.spring_heat`), so they leave no drift;
+- a particle lost while it touches another body: its energy is booked at the end of
+  the step it left in as if only gravity acted on it in that step (exact for a particle
+  in free flight), while its partners miss that step's contact force (first order).
+
+A run resumed from a checkpoint continues the same book: the baseline of the run's
+audit (:meth:`EnergyAudit.of_run`, ``sim.energy_book0``), ``sim.lost_energy``,
+``sim.added_energy`` and the walls' accumulators are in the checkpoint
+(:mod:`gsi.dem.checkpoint_state`).
 
 Energies are in J; :func:`energy_parts` returns them as a dict.
 """
@@ -62,11 +78,21 @@ def _spring_energy(hertz, delta, R_eff, xx, xy, xz, tab, row):
     return 0.5 * k_n * delta * delta, 0.5 * K_T_OVER_K_N * k_n * xi2
 
 
+#: the parts of ``sim.lost_energy`` and ``sim.added_energy`` (J): what the removed (added)
+#: particles carried
+LOST_PARTS = ("kinetic", "elastic", "gravity", "thermal", "heat_friction")
+
+
+def new_flows():
+    """``(lost_energy, added_energy, energy_book0)`` of a new simulation: nothing removed
+    or added yet (by :data:`LOST_PARTS`, J), no audit of the run started."""
+    return np.zeros(len(LOST_PARTS)), np.zeros(len(LOST_PARTS)), None
+
+
 @njit
-def contact_elastic_energy(P, pairs, wc, table, hertz):
-    """(normal, tangential) elastic energy (J) of the contacts of the last step: sphere
-    pairs (``pairs.active``), planes (``wc.plane_mask``; ``P`` and the plane geometry as
-    the engine left them) and mesh triangles (``wc.count`` slots)."""
+def contact_elastic_energy(P, pairs, wc, table, hertz, sel):
+    """(normal, tangential) elastic energy (J) of the sphere-pair contacts of the last
+    step (``pairs.active``) with at least one particle where ``sel`` (n,) is nonzero."""
     nt = table.shape[0]
     tab = table.reshape((nt * nt, table.shape[2]))
     En = 0.0
@@ -79,6 +105,8 @@ def contact_elastic_energy(P, pairs, wc, table, hertz):
             if not pairs.active[k]:
                 continue
             j = pairs.j[k]
+            if sel[i] == 0 and sel[j] == 0:
+                continue
             rj = P.radius[j]
             d2 = 0.0
             for d in range(3):
@@ -95,9 +123,10 @@ def contact_elastic_energy(P, pairs, wc, table, hertz):
 
 
 @njit
-def wall_elastic_energy(P, pairs, pl, M, wc, table, hertz):
-    """(normal, tangential) elastic energy (J) of the particles' plane and triangle
-    contacts of the last step."""
+def wall_elastic_energy(P, pairs, pl, M, wc, table, hertz, sel):
+    """(normal, tangential) elastic energy (J) of the plane and triangle contacts of the
+    last step of the particles where ``sel`` (n,) is nonzero (``wc.plane_mask``,
+    ``wc.count`` slots; ``P`` and the wall geometry as the engine left them)."""
     nt = table.shape[0]
     tab = table.reshape((nt * nt, table.shape[2]))
     npl = pl.point.shape[0]
@@ -105,6 +134,8 @@ def wall_elastic_energy(P, pairs, pl, M, wc, table, hertz):
     Et = 0.0
     x = P.x
     for i in range(x.shape[0]):
+        if sel[i] == 0:
+            continue
         ri = P.radius[i]
         row_i = P.type[i] * nt
         mask = wc.plane_mask[i]
@@ -137,46 +168,98 @@ def wall_elastic_energy(P, pairs, pl, M, wc, table, hertz):
     return En, Et
 
 
+def _elastic(sim, sel):
+    """(normal, tangential) elastic energy (J) of the contacts touching the particles
+    where ``sel`` is nonzero (0 while the lists are not those of the current rows: before
+    the first build, or after particles were added or removed, until the next step)."""
+    if not (sim.flags.built and np.array_equal(sim.ids_at_build, sim.ids)):
+        return 0.0, 0.0
+    P = sim.particles
+    hertz = int(sim.engine.model[M_NORMAL]) == _HERTZ
+    sel = np.ascontiguousarray(sel, np.uint8)
+    a = contact_elastic_energy(P, sim.pairs, sim.wall_contacts, sim.table, hertz, sel)
+    b = wall_elastic_energy(P, sim.pairs, sim.plane_state, sim.mesh_state, sim.wall_contacts,
+                            sim.table, hertz, sel)
+    return a[0] + b[0], a[1] + b[1]
+
+
+def particle_energy(sim, mask, *, mid_step=False):
+    """The energy (J) of the particles where ``mask`` is true, by :data:`LOST_PARTS`
+    (the last, the frictional heat they hold, is part of their thermal energy): what
+    they take out of the book when removed.  ``mid_step`` (particles that left the
+    domain, :meth:`gsi.dem.Simulation.remove_particles` from the step loop): they have
+    drifted to x_(n+1) with v_(n+1/2), and their forces are gravity alone (cleared for
+    the step); their velocities are completed by the step's second half kick, v_(n+1) =
+    v_(n+1/2) + dt/2 F/m (omega likewise), so a particle in free flight takes exactly the
+    energy it had in the book at step n (velocity Verlet conserves it under a constant
+    force).  Otherwise (between steps) the state is taken as it is.  The elastic energy
+    is that of every contact of the last step with a removed particle."""
+    mask = np.asarray(mask, bool)
+    P = sim.particles
+    v, w = P.v[mask], P.omega[mask]
+    m, inertia = P.mass[mask], P.inertia[mask]
+    if mid_step:
+        free = P.fixed[mask] == 0
+        h = 0.5 * sim.dt
+        v = v + np.where(free[:, None], (h / m)[:, None] * P.force[mask], 0.0)
+        w = w + np.where(free[:, None], (h / inertia)[:, None] * P.torque[mask], 0.0)
+    kin = 0.5 * float(m @ (v * v).sum(1) + inertia @ (w * w).sum(1))
+    En, Et = _elastic(sim, mask)
+    grav = -float(m @ (P.x[mask] @ np.asarray(sim.g, float)))
+    thermal = float((P.T[mask] / P.mcp_inv[mask]).sum())
+    fr = float(P.heat_friction[mask].sum()) if len(P.heat_friction) else 0.0
+    return np.array([kin, En + Et, grav, thermal, fr])
+
+
 def energy_parts(sim):
     """The parts of the energy book of ``sim`` now (module docstring), in J, and
     ``book`` = their sum with the signs of the book; ``heat_generated``: the frictional
-    heat so far (particles and walls)."""
+    heat so far (particles, also those removed since, and walls)."""
     P, pl, M = sim.particles, sim.plane_state, sim.mesh_state
-    hertz = int(sim.engine.model[M_NORMAL]) == _HERTZ
-    En = Et = 0.0
-    if sim.flags.built:
-        a = contact_elastic_energy(P, sim.pairs, sim.wall_contacts, sim.table, hertz)
-        b = wall_elastic_energy(P, sim.pairs, pl, M, sim.wall_contacts, sim.table, hertz)
-        En, Et = a[0] + b[0], a[1] + b[1]
+    En, Et = _elastic(sim, np.ones(sim.n, np.uint8))
     v, w = P.v, P.omega
     kin = 0.5 * float(P.mass @ (v * v).sum(1) + P.inertia @ (w * w).sum(1))
     grav = -float(P.mass @ (P.x @ np.asarray(sim.g, float)))
     thermal = float((P.T / P.mcp_inv).sum()) if len(P.T) else 0.0
+    lost = float(sim.lost_energy[:4].sum())
+    added = float(sim.added_energy[:4].sum())
     work = float(pl.work.sum() + M.wall_work.sum())
     # plane and wall accumulators hold conduction and radiation; the enclosure its own
     q_in = float(pl.heat.sum() + M.wall_heat.sum()) + sim.walls.heat_reset
     q_in += float(getattr(sim.radiation, "enclosure_heat", 0.0))
     fr_walls = float(pl.friction_heat.sum() + M.wall_friction_heat.sum())
+    fr_particles = float(P.heat_friction.sum()) if len(P.heat_friction) else 0.0
     parts = dict(kinetic=kin, elastic=En + Et, elastic_tangential=Et, gravity=grav,
-                 thermal=thermal, wall_work=work, boundary_heat=q_in,
+                 thermal=thermal, lost=lost, added=added, wall_work=work, boundary_heat=q_in,
                  friction_to_walls=fr_walls,
-                 heat_generated=float(P.heat_friction.sum()) + fr_walls)
-    parts["book"] = kin + En + Et + grav + thermal - work - q_in + fr_walls
+                 heat_generated=fr_particles + float(sim.lost_energy[4]) + fr_walls)
+    parts["book"] = kin + En + Et + grav + thermal + lost - added - work - q_in + fr_walls
     return parts
 
 
 class EnergyAudit:
-    """The drift of the energy book since :meth:`start` (module docstring).
+    """The drift of the energy book since its start (module docstring).
 
     ``drift`` (J) = book - book at the start; ``drift_rel`` = drift / E_ref with
     E_ref = heat generated + kinetic + elastic energy now: the mechanical energy that has
     been in play (dissipated or still moving).  ``time_integration`` is not separated
     here; the validation (docs/validation.md) shows the part that falls with dt.
+
+    ``EnergyAudit(sim)`` starts its book now (``book0``); :meth:`of_run` gives the
+    audit of the run, whose start is kept in the simulation and its checkpoints.
     """
 
-    def __init__(self, sim):
+    def __init__(self, sim, book0=None):
         self.sim = sim
-        self.book0 = energy_parts(sim)["book"]
+        self.book0 = energy_parts(sim)["book"] if book0 is None else float(book0)
+
+    @classmethod
+    def of_run(cls, sim):
+        """The audit of the run: its book starts at the first call of the run
+        (``sim.energy_book0``, set then); a run resumed from a checkpoint continues it."""
+        if sim.energy_book0 is None:
+            sim.energy_book0 = energy_parts(sim)["book"]
+        return cls(sim, sim.energy_book0)
 
     def sample(self):
         """The parts now, with ``drift`` and ``drift_rel``."""

@@ -34,6 +34,14 @@ particles): see :mod:`gsi.dem.checks`.
 
 State: five bundles (:mod:`gsi.dem.state`; see :mod:`gsi.dem.storage`); also
 ``sim.heat_capacity`` (J/K), ``sim.material_names``, ``sim.material_index(name)``.
+The energy book (:mod:`gsi.dem.energy`) keeps three things here, both in checkpoints:
+``sim.lost_energy`` (J, by :data:`gsi.dem.energy.LOST_PARTS`), what the particles removed
+so far carried (``remove_particles`` books it, :func:`gsi.dem.energy.particle_energy`:
+particles lost from the domain, ``lost=True``, counted in ``n_lost``, are removed
+mid-step, in the step the loop stopped in, after its drift; those removed by the user
+between steps as they are), ``sim.added_energy``, what the particles added so far brought in (``add_particles``), and
+``sim.energy_book0`` (J), the start of the run's audit
+(:meth:`gsi.dem.energy.EnergyAudit.of_run`; None until its first sample).
 
 Collaborators (each with public methods; the simulation composes them):
 :class:`gsi.dem.storage.ParticleStore` (the per-particle arrays; its views
@@ -57,6 +65,7 @@ from gsi.dem.material_set import MaterialSet
 from gsi.dem.engine import get_engine
 from gsi.dem import checks, step_loop
 from gsi.dem.checkpoint_state import capture, restore
+from gsi.dem.energy import new_flows, particle_energy
 from gsi.dem.insertion import Inserter
 from gsi.dem.lists import adaptive_skin, build_lists
 from gsi.dem.log_control import ContactLogControl
@@ -151,6 +160,7 @@ class Simulation(ParticleViews, WallViews):
         self.time = 0.0
         self.step_count = 0
         self.n_lost = 0
+        self.lost_energy, self.added_energy, self.energy_book0 = new_flows()
         self.next_id = 0                # the id the next particle gets
         self.store = ParticleStore(16, unused=() if fh else FRICTION_FIELDS)
         self.walls = Walls(self.store)
@@ -214,6 +224,7 @@ class Simulation(ParticleViews, WallViews):
         ids = self.store.add_spheres(x, r, mtype=t, rho=mat.rho, cp=mat.cp, v=v, T=T,
                                      omega=omega, first_id=self.next_id)
         self.next_id += len(x)
+        self.added_energy += particle_energy(self, self.ids >= self.next_id - len(x))
         self.flags.changed()
         self.flags.dt_checked = False
         return ids
@@ -223,11 +234,10 @@ class Simulation(ParticleViews, WallViews):
         self.store.particle["fixed"][self.index(ids)] = 1 if fixed else 0
 
     def remove_particles(self, mask, *, lost=False):
-        """Remove the particles where ``mask`` (n,) is true (counted in ``n_lost`` if
-        ``lost``); the lists are rebuilt before the next step."""
+        """Remove the particles where ``mask`` (n,) is true (``lost``: module docstring)."""
         mask = np.asarray(mask, bool)
-        if lost:
-            self.n_lost += int(mask.sum())
+        self.lost_energy += particle_energy(self, mask, mid_step=lost)
+        self.n_lost += int(mask.sum()) if lost else 0
         self.store.delete(mask)
         self.flags.need_rebuild = True
 

@@ -24,7 +24,7 @@ class Walls:
         self.plane_state = empty_planes()
         self.mesh_state = empty_mesh()
         #: heat from walls into the particles (J) in accumulators reset since the start
-        #: (the energy book, :mod:`gsi.dem.energy`; not in checkpoints)
+        #: (the energy book, :mod:`gsi.dem.energy`; in checkpoints)
         self.heat_reset = 0.0
 
     def book_reset_heat(self, heat) -> None:

@@ -8,7 +8,10 @@ checkpoint: the resume starts from the older one with the finished run's later o
 still on disk, so it must also cut every series back (no duplicate, no stale entry).
 Compared bitwise: the final state of every rank (DEM arrays, FE fields, records without
 their wall-clock columns, monitor series) and every output file (see
-``_util.assert_same_files`` for the three exceptions).
+``_util.assert_same_files`` for the three exceptions). Among them the ``energy``
+monitor's series: the resumed run continues the uninterrupted run's energy book (its
+start, the removed particles' energy and the walls' accumulators are in the checkpoint,
+docs/design.md, "Energy audit"), so its drift after ``--resume`` is bitwise the same.
 """
 import importlib.util
 import json
