@@ -416,6 +416,11 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm, rtol=ITERATIVE_RTOL):
     t_setup = time.perf_counter() - t0
     stage.pop()
     out = dict(candidate=name, setup_s=t_setup)
+    if ok and settings.get("pc_factor_mat_solver_type") == "mumps":
+        # MUMPS's own statistics, independent of the host's load: the factorization's
+        # floating-point operations (RINFOG(3)) and the factor's entries (INFOG(29))
+        F = ksp.getPC().getFactorMatrix()
+        out.update(gflop=F.getMumpsRinfog(3) / 1e9, factor_entries=F.getMumpsInfog(29))
     if not ok:
         out.update(its=-1, solve_s=float("nan"), reason=0, rate=float("nan"), err=err)
     else:
@@ -504,7 +509,9 @@ def main() -> None:
                           f"res={r.get('res', float('nan')):.1e} "
                           f"diff={r.get('diff', float('nan')):.1e} "
                           f"its_1e-8={r.get('its_1e-08', -1)} its_1e-10={r.get('its_1e-10', -1)} "
-                          f"load={load_average():.1f}"
+                          + (f"gflop={r['gflop']:.1f} factor_entries={r['factor_entries']} "
+                             if "gflop" in r else "")
+                          + f"load={load_average():.1f}"
                           + (f" error: {r['err']}" if "err" in r else ""), flush=True)
             p.linear_solver.destroy()
             del p, A, b, sm
@@ -528,6 +535,8 @@ def main() -> None:
                        str(r["its"] if r["reason"] > 0 else -1) for r in rs),
                    f"setup_{c}_{st}=" + "/".join(f"{r['setup_s']:.2f}" for r in rs),
                    f"solve_{c}_{st}=" + "/".join(f"{r['solve_s']:.2f}" for r in rs)]
+            if all("gflop" in r for r in rs):
+                kv += [f"gflop_{c}_{st}=" + "/".join(f"{r['gflop']:.1f}" for r in rs)]
             if st == "shell" and conv and len(rs) == len(targets) - args.skip_sizes and not (
                     comm.size == 1 and (c == "bjacobi_lu" or c.startswith(("direct", "bddc")))):
                 growth[c] = (g, rs[-1]["its"], rs[-1]["dofs"])
@@ -535,7 +544,8 @@ def main() -> None:
         best = min(growth, key=lambda c: (growth[c][0], growth[c][1]))
         kv += [f"best={best}", f"its_at_max={growth[best][1]}",
                f"its_growth={growth[best][0]:.3g}", f"dofs_max={growth[best][2]}"]
-    kv += [f"load_start={load0:.2f}", f"load_end={load_average():.2f}"]
+    kv += [f"blas={compat.blas_library()}", f"load_start={load0:.2f}",
+           f"load_end={load_average():.2f}"]
     print(" ".join(kv), flush=True)
 
 
