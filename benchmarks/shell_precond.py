@@ -420,7 +420,8 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm, rtol=ITERATIVE_RTOL):
         # MUMPS's own statistics, independent of the host's load: the factorization's
         # floating-point operations (RINFOG(3)) and the factor's entries (INFOG(29))
         F = ksp.getPC().getFactorMatrix()
-        out.update(gflop=F.getMumpsRinfog(3) / 1e9, factor_entries=F.getMumpsInfog(29))
+        out.update(gflop=F.getMumpsRinfog(3) / 1e9, factor_entries=F.getMumpsInfog(29),
+                   mumps_infog1=F.getMumpsInfog(1), mumps_infog2=F.getMumpsInfog(2))
     if not ok:
         out.update(its=-1, solve_s=float("nan"), reason=0, rate=float("nan"), err=err)
     else:
@@ -510,6 +511,7 @@ def main() -> None:
                           f"diff={r.get('diff', float('nan')):.1e} "
                           f"its_1e-8={r.get('its_1e-08', -1)} its_1e-10={r.get('its_1e-10', -1)} "
                           + (f"gflop={r['gflop']:.1f} factor_entries={r['factor_entries']} "
+                             f"INFOG(1,2)={r['mumps_infog1']},{r['mumps_infog2']} "
                              if "gflop" in r else "")
                           + f"load={load_average():.1f}"
                           + (f" error: {r['err']}" if "err" in r else ""), flush=True)

@@ -9,13 +9,25 @@ import re
 
 from gsi.errors import GsiInputError
 
-__all__ = ["SOLVERS", "ITERATIVE_RTOL", "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER",
+__all__ = ["SOLVERS", "DIRECT_FACTORIZATION", "ITERATIVE_RTOL", "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER",
            "ITERATIVE_DEFAULTS", "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "choose_solver",
            "iterative_defaults", "petsc_option_strings"]
 
 #: ``direct``: the factor in memory; ``out_of_core``: a MUMPS Cholesky factor written to
 #: disk (any number of ranks); ``iterative``: CG + algebraic multigrid; ``auto``: by size
 SOLVERS = ("direct", "out_of_core", "iterative", "auto")
+
+#: The one-rank MUMPS factorization of ``solver = "direct"`` when the problem is given none
+#: (``factorization``): Cholesky (LDL^T) for elasticity, whose step matrices (K, or
+#: c_M M + c_K K with Rayleigh damping, the Dirichlet rows and columns replaced by the
+#: identity) are symmetric: half LU's work and factor. Measured by MUMPS itself
+#: (benchmarks/shell_precond.py, 9.9e4-dof P2 silo shell, 2 ranks, load-independent
+#: figures): LU 213.5 Gflop and 1.39e8 factor entries, Cholesky 113.2 Gflop and 7.1e7;
+#: set-up 17.7 s against 11.0 s in the same run (load 12.7). MUMPS's orderings (METIS,
+#: PORD, SCOTCH, its automatic choice) lie within 4 % of each other there, and its parallel
+#: ordering is not available in this build (INFOG(1) = -38), so the ordering stays MUMPS's
+#: own. Heat keeps LU. On several ranks ``direct`` is SuperLU_DIST LU (bit-reproducible).
+DIRECT_FACTORIZATION = {"elasticity": "cholesky", "heat": "lu"}
 
 #: Relative tolerance of the iterative solvers: the (unpreconditioned) residual must fall
 #: to ITERATIVE_RTOL times the residual of the initial guess, ||b - A x|| <= ITERATIVE_RTOL
