@@ -241,7 +241,9 @@ CANDIDATES = {
                           ("_pord", {"mat_mumps_icntl_7": "4"}),
                           ("_scotch", {"mat_mumps_icntl_7": "3"}),
                           ("_ptscotch", {"mat_mumps_icntl_28": "2", "mat_mumps_icntl_29": "1"}),
-                          ("_parmetis", {"mat_mumps_icntl_28": "2", "mat_mumps_icntl_29": "2"}))},
+                          ("_parmetis", {"mat_mumps_icntl_28": "2", "mat_mumps_icntl_29": "2"}),
+                          # 50 % more workspace than MUMPS's estimate (its default: 20 %)
+                          ("_ws50", {"mat_mumps_icntl_14": "50"}))},
     "bddc": {"pc_type": "bddc"},
     "bddc_deluxe": {"pc_type": "bddc", "pc_bddc_use_deluxe_scaling": ""},
     "bddc_mumps": dict(_BDDC_MUMPS),

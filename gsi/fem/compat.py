@@ -398,3 +398,17 @@ def blas_library() -> str:
         if "libblas.so" in path:
             return "reference" if "/blas/" in path or "netlib" in path else os.path.basename(path)
     return "unknown"
+
+
+def use_mumps(pc, *, workspace: int | None = None) -> None:
+    """Make the factorization PC ``pc`` use MUMPS; with ``workspace`` its working
+    space is that many per cent above MUMPS's own estimate (ICNTL(14), MUMPS's default 20;
+    a ``mat_mumps_icntl_14`` option still wins)."""
+    pc.setFactorSolverType("mumps")
+    if workspace is None:
+        return
+    try:
+        pc.setFactorSetUpSolverType()      # the factor matrix, before PCSetUp factors it
+    except PETSc.Error:                    # no operator yet (a scratch PC): MUMPS's default
+        return
+    pc.getFactorMatrix().setMumpsIcntl(14, int(workspace))

@@ -9,8 +9,9 @@ import re
 
 from gsi.errors import GsiInputError
 
-__all__ = ["SOLVERS", "DIRECT_FACTORIZATION", "ITERATIVE_RTOL", "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER",
-           "ITERATIVE_DEFAULTS", "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "choose_solver",
+__all__ = ["SOLVERS", "DIRECT_FACTORIZATION", "DIRECT_MUMPS_WORKSPACE", "ITERATIVE_RTOL",
+           "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER", "ITERATIVE_DEFAULTS",
+           "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "choose_solver", "direct_workspace",
            "iterative_defaults", "petsc_option_strings"]
 
 #: ``direct``: the factor in memory; ``out_of_core``: a MUMPS Cholesky factor written to
@@ -28,6 +29,19 @@ SOLVERS = ("direct", "out_of_core", "iterative", "auto")
 #: ordering is not available in this build (INFOG(1) = -38), so the ordering stays MUMPS's
 #: own. Heat keeps LU. On several ranks ``direct`` is SuperLU_DIST LU (bit-reproducible).
 DIRECT_FACTORIZATION = {"elasticity": "cholesky", "heat": "lu"}
+
+#: ... with MUMPS's working space this many per cent above its estimate (ICNTL(14), its
+#: default 20 %), by factorization: 50 % for Cholesky, whose symmetric-indefinite
+#: factorization delays pivots: at 2.2e5 dofs (the same shell, 2 ranks) it ran short of
+#: space with 20 % (INFOG(1) = -9, 1.4e6 entries missing) where LU passed.
+DIRECT_MUMPS_WORKSPACE = {"cholesky": 50}
+
+
+def direct_workspace(factorization: str, user_options) -> int | None:
+    """MUMPS's ICNTL(14) for the one-rank direct solver: DIRECT_MUMPS_WORKSPACE's, or None
+    (MUMPS's own) for LU and whenever the user gives PETSc options (they may choose another
+    package, or ``mat_mumps_icntl_14`` themselves)."""
+    return None if user_options else DIRECT_MUMPS_WORKSPACE.get(factorization)
 
 #: Relative tolerance of the iterative solvers: the (unpreconditioned) residual must fall
 #: to ITERATIVE_RTOL times the residual of the initial guess, ||b - A x|| <= ITERATIVE_RTOL

@@ -44,7 +44,7 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError, GsiRunError
 
 from . import compat
-from .options import (ITERATIVE_ATOL, ITERATIVE_RTOL, OUT_OF_CORE_DEFAULTS,
+from .options import (ITERATIVE_ATOL, ITERATIVE_RTOL, OUT_OF_CORE_DEFAULTS, direct_workspace,
                       iterative_defaults, petsc_option_strings)
 
 
@@ -289,7 +289,7 @@ class FactorOnceSolver(LinearSolver):
         pc = ksp.getPC()
         if ksp.getComm().getSize() == 1:
             pc.setType(self.factorization)
-            pc.setFactorSolverType("mumps")
+            compat.use_mumps(pc, workspace=direct_workspace(self.factorization, self.user_options))
         else:
             pc.setType("lu")
             pc.setFactorSolverType("superlu_dist")
