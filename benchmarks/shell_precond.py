@@ -41,6 +41,11 @@ Candidates (``--candidates``, PETSc 3.18 / hypre as Debian 12 builds them):
 * ``bddc_deluxe``: the same with deluxe scaling (``pc_bddc_use_deluxe_scaling``: the
   interface averaged with the subdomains' Schur complements instead of their diagonal),
   named in ``--candidates``;
+* ``direct`` (MUMPS LU) and ``direct_chol``, ``direct_chol_metis``, ``_pord``,
+  ``_scotch``, ``_ptscotch``, ``_parmetis``, ``_ws50`` (MUMPS Cholesky with its automatic
+  ordering, METIS, PORD, SCOTCH, the parallel orderings, 50 % working space): the direct
+  baselines; each prints MUMPS's own flop count (RINFOG(3)) and factor entries
+  (INFOG(29)), which the load does not change, and INFOG(1, 2) (its error code);
 * ``pmg_gamg``: p-multigrid, PCMG on two levels: the P2 space smoothed by two
   Chebyshev/Jacobi sweeps, the P1 space (the interpolation P1 -> P2 of dolfinx 0.5.2's
   ``interpolation_matrix`` as prolongation, the Galerkin operator P^T A P) by one GAMG
@@ -78,7 +83,12 @@ reduction per iteration) and checks the solution against the first candidate's
 (iterations at the largest size over those at the smallest), and ``best`` (the candidate
 whose shell iterations grow least among those that converged at every size,
 bjacobi_lu and bddc excepted on 1 rank: they are direct solves there), ``its_at_max``,
-``its_growth``, ``dofs_max``, ``ranks``, the load average at the start and the end.
+``its_growth``, ``dofs_max``, ``ranks``, ``gflop_<c>_<structure>`` for the MUMPS
+candidates, ``blas`` (the BLAS MUMPS ran on: :func:`gsi.fem.compat.blas_library`), the
+load average at the start and the end. Every set-up and solve is a PETSc log stage of its
+own (``<candidate>_<dofs>_setup``/``_solve``): with ``PETSC_OPTIONS=-log_view`` PETSc
+breaks each down by event. ``--skip-sizes N`` builds the first N sizes' meshes but solves
+only the larger ones (with ``--uniform``: refined from the same first mesh).
 
 Measured (2026-12-04, the 2-core test host loaded by other jobs, load 6-10: times are
 several times an idle host's, iteration counts are not affected; the records and their
