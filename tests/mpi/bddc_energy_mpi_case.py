@@ -4,8 +4,7 @@ tests/mpi/test_fem_solvers_mpi.py.
 Arguments: out_path. The suddenly loaded bar of tests/validation/test_fem_newmark_bar.py
 (average acceleration, no damping: 1/2 v.Mv + 1/2 u.Ku - f.u is conserved exactly by
 the discrete scheme) for 3 periods of 100 steps, once with ``solver="direct"`` and once
-with CG + BDDC (``pc_type = "bddc"``, its own ``ksp_rtol`` 1e-10; the coarse solve by SVD,
-see ``BDDC``); writes (rank 0) the
+with CG + BDDC (``pc_type = "bddc"``, its own ``ksp_rtol`` 1e-10); writes (rank 0) the
 energy's spread over the run relative to its largest magnitude, and BDDC's iterations.
 """
 import json
@@ -20,11 +19,10 @@ from gsi.fem.materials import StructuralMaterial
 
 L, E, RHO, S = 1.0, 200e9, 7800.0, 1e6
 
-#: gsi's BDDC, its coarse problem solved by SVD: on this slender bar (a 4-node interface
-#: between the two subdomains) the adaptive coarse space's coarse matrix is singular,
-#: MUMPS's LU of it fails (PC reason FACTOR_OTHER) and the second solve stops with PETSc
-#: reason -11 (docs/performance.md, "BDDC's set-up, and the BLAS")
-BDDC = {"pc_type": "bddc", "pc_bddc_coarse_redundant_pc_type": "svd"}
+#: gsi's BDDC as it comes (gsi.fem.options.ITERATIVE_DEFAULTS["elasticity_bddc"]): with
+#: MUMPS for the coarse solve it failed on this bar (its coarse LU: PC reason FACTOR_OTHER;
+#: the second solve: PETSc reason -11), hence PETSc's own LU there
+BDDC = {"pc_type": "bddc"}
 
 
 def _energy_spread(solver, petsc=None, n_periods=3, n_per=100):
