@@ -29,7 +29,9 @@ dynamic step at the largest size run), ``step_s_at_max``
 (least-squares slope of log dynamic step time against log dofs of that solver; the other
 solvers' slopes and largest steps as ``exponent_<solver>``, ``step_s_at_max_<solver>``),
 the same slopes of the static re-solve and the heat step, the iterations at the
-largest size and the load average (``uptime``) at the start and the end.
+largest size, ``blas`` (the BLAS MUMPS runs on, :func:`gsi.fem.compat.blas_library`: the
+direct and BDDC set-ups are 4-8 times slower on netlib's reference BLAS than on OpenBLAS)
+and the load average (``uptime``) at the start and the end.
 
 The direct solver is skipped above ``--direct-max-dofs`` (its memory grows faster than the
 dofs), the static problem above ``--static-max-dofs`` (from u = 0 the iterative solver
