@@ -438,7 +438,7 @@ class IterativeSolver(LinearSolver):
             if matis is None:
                 raise GsiInputError(f"{options_key}.pc_type = 'bddc': BDDC is available for "
                                     "elasticity only; use pc_type = 'hypre' or 'gamg' here")
-            if comm.size == 1:  # one subdomain: PETSc 3.18 fails from its 2nd solve (-11)
+            if comm.size == 1:  # one subdomain: a direct solve, at BDDC's extra cost
                 raise GsiInputError(f"{options_key}.pc_type = 'bddc': needs 2 or more MPI "
                                     "ranks (a subdomain per rank); on one rank use "
                                     "solver = 'direct'")
