@@ -29,7 +29,9 @@ dynamic step at the largest size run), ``step_s_at_max``
 (least-squares slope of log dynamic step time against log dofs of that solver; the other
 solvers' slopes and largest steps as ``exponent_<solver>``, ``step_s_at_max_<solver>``),
 the same slopes of the static re-solve and the heat step, the iterations at the
-largest size and the load average (``uptime``) at the start and the end.
+largest size, ``blas`` (the BLAS MUMPS runs on, :func:`gsi.fem.compat.blas_library`: the
+direct and BDDC set-ups are 4-8 times slower on netlib's reference BLAS than on OpenBLAS)
+and the load average (``uptime``) at the start and the end.
 
 The direct solver is skipped above ``--direct-max-dofs`` (its memory grows faster than the
 dofs), the static problem above ``--static-max-dofs`` (from u = 0 the iterative solver
@@ -91,6 +93,7 @@ from mpi4py import MPI
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout too
 
 from gsi import meshes  # noqa: E402
+from gsi.fem import compat  # noqa: E402
 from gsi.fem.elasticity import Elasticity  # noqa: E402
 from gsi.fem.heat import Heat  # noqa: E402
 from gsi.fem.surface import ContactSurface  # noqa: E402
@@ -371,7 +374,9 @@ def main() -> None:
         if rs:
             kv += [f"exponent_{prob}={slope(d, t):.3f}", f"{prob}_dofs_at_max={d[-1]}",
                    f"{prob}_step_s_at_max={t[-1]:.4g}"]
-    kv += [f"load_start={load0:.2f}", f"load_end={load_average():.2f}"]
+    # the BLAS MUMPS ran on (the direct set-ups are 8 times slower on the reference one)
+    kv += [f"blas={compat.blas_library()}", f"load_start={load0:.2f}",
+           f"load_end={load_average():.2f}"]
     print(" ".join(kv), flush=True)
 
 

@@ -41,6 +41,11 @@ Candidates (``--candidates``, PETSc 3.18 / hypre as Debian 12 builds them):
 * ``bddc_deluxe``: the same with deluxe scaling (``pc_bddc_use_deluxe_scaling``: the
   interface averaged with the subdomains' Schur complements instead of their diagonal),
   named in ``--candidates``;
+* ``direct`` (MUMPS LU) and ``direct_chol``, ``direct_chol_metis``, ``_pord``,
+  ``_scotch``, ``_ptscotch``, ``_parmetis``, ``_ws50`` (MUMPS Cholesky with its automatic
+  ordering, METIS, PORD, SCOTCH, the parallel orderings, 50 % working space): the direct
+  baselines; each prints MUMPS's own flop count (RINFOG(3)) and factor entries
+  (INFOG(29)), which the load does not change, and INFOG(1, 2) (its error code);
 * ``pmg_gamg``: p-multigrid, PCMG on two levels: the P2 space smoothed by two
   Chebyshev/Jacobi sweeps, the P1 space (the interpolation P1 -> P2 of dolfinx 0.5.2's
   ``interpolation_matrix`` as prolongation, the Galerkin operator P^T A P) by one GAMG
@@ -78,7 +83,12 @@ reduction per iteration) and checks the solution against the first candidate's
 (iterations at the largest size over those at the smallest), and ``best`` (the candidate
 whose shell iterations grow least among those that converged at every size,
 bjacobi_lu and bddc excepted on 1 rank: they are direct solves there), ``its_at_max``,
-``its_growth``, ``dofs_max``, ``ranks``, the load average at the start and the end.
+``its_growth``, ``dofs_max``, ``ranks``, ``gflop_<c>_<structure>`` for the MUMPS
+candidates, ``blas`` (the BLAS MUMPS ran on: :func:`gsi.fem.compat.blas_library`), the
+load average at the start and the end. Every set-up and solve is a PETSc log stage of its
+own (``<candidate>_<dofs>_setup``/``_solve``): with ``PETSC_OPTIONS=-log_view`` PETSc
+breaks each down by event. ``--skip-sizes N`` builds the first N sizes' meshes but solves
+only the larger ones (with ``--uniform``: refined from the same first mesh).
 
 Measured (2026-12-04, the 2-core test host loaded by other jobs, load 6-10: times are
 several times an idle host's, iteration counts are not affected; the records and their
@@ -233,6 +243,17 @@ CANDIDATES = {
     "bjacobi_lu": {"pc_type": "bjacobi", "sub_pc_type": "cholesky",
                    "sub_pc_factor_mat_solver_type": "mumps"},
     "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
+    # MUMPS variants (issue 33): Cholesky; its orderings METIS (ICNTL(7) = 5), PORD (4),
+    # SCOTCH (3); parallel ordering (ICNTL(28) = 2) by PT-SCOTCH (ICNTL(29) = 1) or ParMETIS (2)
+    **{f"direct_chol{sfx}": {"ksp_type": "preonly", "pc_type": "cholesky",
+                             "pc_factor_mat_solver_type": "mumps", **extra}
+       for sfx, extra in (("", {}), ("_metis", {"mat_mumps_icntl_7": "5"}),
+                          ("_pord", {"mat_mumps_icntl_7": "4"}),
+                          ("_scotch", {"mat_mumps_icntl_7": "3"}),
+                          ("_ptscotch", {"mat_mumps_icntl_28": "2", "mat_mumps_icntl_29": "1"}),
+                          ("_parmetis", {"mat_mumps_icntl_28": "2", "mat_mumps_icntl_29": "2"}),
+                          # 50 % more workspace than MUMPS's estimate (its default: 20 %)
+                          ("_ws50", {"mat_mumps_icntl_14": "50"}))},
     "bddc": {"pc_type": "bddc"},
     "bddc_deluxe": {"pc_type": "bddc", "pc_bddc_use_deluxe_scaling": ""},
     "bddc_mumps": dict(_BDDC_MUMPS),
@@ -391,6 +412,10 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm, rtol=ITERATIVE_RTOL):
     x = b.duplicate()
     x.set(0.0)
     comm.barrier()
+    # a PETSc log stage per set-up and per solve: ``-log_view`` (e.g. in $PETSC_OPTIONS)
+    # then breaks each down by event (factorizations, BDDC's Schur complements, ...)
+    stage = PETSc.Log.Stage(f"{name}_{p.n_dofs}_setup")
+    stage.push()
     t0 = time.perf_counter()
     ok = True
     try:
@@ -401,13 +426,23 @@ def run_candidate(name, p, A, b, x_ref, max_its, comm, rtol=ITERATIVE_RTOL):
         err = compat.petsc_error_text(exc)
     comm.barrier()
     t_setup = time.perf_counter() - t0
+    stage.pop()
     out = dict(candidate=name, setup_s=t_setup)
+    if ok and settings.get("pc_factor_mat_solver_type") == "mumps":
+        # MUMPS's own statistics, independent of the host's load: the factorization's
+        # floating-point operations (RINFOG(3)) and the factor's entries (INFOG(29))
+        F = ksp.getPC().getFactorMatrix()
+        out.update(gflop=F.getMumpsRinfog(3) / 1e9, factor_entries=F.getMumpsInfog(29),
+                   mumps_infog1=F.getMumpsInfog(1), mumps_infog2=F.getMumpsInfog(2))
     if not ok:
         out.update(its=-1, solve_s=float("nan"), reason=0, rate=float("nan"), err=err)
     else:
+        stage = PETSc.Log.Stage(f"{name}_{p.n_dofs}_solve")
+        stage.push()
         t0 = time.perf_counter()
         ksp.solve(b, x)
         comm.barrier()
+        stage.pop()
         its = ksp.getIterationNumber()
         r = b.duplicate()
         A.mult(x, r)
@@ -446,6 +481,9 @@ def main() -> None:
     ap.add_argument("--uniform", action="store_true",
                     help="refine uniformly from the --min-dofs mesh (one more element layer "
                          "through the wall per size, h scaled alike); --max-dofs unused")
+    ap.add_argument("--skip-sizes", type=int, default=0,
+                    help="build but do not solve the first N sizes (with --uniform: the "
+                    "larger sizes alone, refined from the same first mesh)")
     ap.add_argument("--max-its", type=int, default=3000)
     ap.add_argument("--rtol", type=float, default=ITERATIVE_RTOL,
                     help="CG's relative tolerance (default gsi's ITERATIVE_RTOL)")
@@ -463,7 +501,9 @@ def main() -> None:
     targets = np.geomspace(args.min_dofs, args.max_dofs, args.sizes)
     rows = []
     for st in structures:
-        for sm, h, dt in meshes_of(st, targets, args.n_thickness, args.uniform):
+        for i, (sm, h, dt) in enumerate(meshes_of(st, targets, args.n_thickness, args.uniform)):
+            if i < args.skip_sizes:
+                continue
             p, A, b = step_system(sm, dt)
             x_ref = None
             for c in cands:
@@ -482,7 +522,10 @@ def main() -> None:
                           f"res={r.get('res', float('nan')):.1e} "
                           f"diff={r.get('diff', float('nan')):.1e} "
                           f"its_1e-8={r.get('its_1e-08', -1)} its_1e-10={r.get('its_1e-10', -1)} "
-                          f"load={load_average():.1f}"
+                          + (f"gflop={r['gflop']:.1f} factor_entries={r['factor_entries']} "
+                             f"INFOG(1,2)={r['mumps_infog1']},{r['mumps_infog2']} "
+                             if "gflop" in r else "")
+                          + f"load={load_average():.1f}"
                           + (f" error: {r['err']}" if "err" in r else ""), flush=True)
             p.linear_solver.destroy()
             del p, A, b, sm
@@ -506,14 +549,17 @@ def main() -> None:
                        str(r["its"] if r["reason"] > 0 else -1) for r in rs),
                    f"setup_{c}_{st}=" + "/".join(f"{r['setup_s']:.2f}" for r in rs),
                    f"solve_{c}_{st}=" + "/".join(f"{r['solve_s']:.2f}" for r in rs)]
-            if st == "shell" and conv and len(rs) == len(targets) and not (
-                    comm.size == 1 and (c in ("bjacobi_lu", "direct") or c.startswith("bddc"))):
+            if all("gflop" in r for r in rs):
+                kv += [f"gflop_{c}_{st}=" + "/".join(f"{r['gflop']:.1f}" for r in rs)]
+            if st == "shell" and conv and len(rs) == len(targets) - args.skip_sizes and not (
+                    comm.size == 1 and (c == "bjacobi_lu" or c.startswith(("direct", "bddc")))):
                 growth[c] = (g, rs[-1]["its"], rs[-1]["dofs"])
     if growth:
         best = min(growth, key=lambda c: (growth[c][0], growth[c][1]))
         kv += [f"best={best}", f"its_at_max={growth[best][1]}",
                f"its_growth={growth[best][0]:.3g}", f"dofs_max={growth[best][2]}"]
-    kv += [f"load_start={load0:.2f}", f"load_end={load_average():.2f}"]
+    kv += [f"blas={compat.blas_library()}", f"load_start={load0:.2f}",
+           f"load_end={load_average():.2f}"]
     print(" ".join(kv), flush=True)
 
 

@@ -376,3 +376,39 @@ def xdmf_write_mesh(xdmf, mesh) -> None:
 
 def xdmf_write_function(xdmf, f, t: float) -> None:
     xdmf.write_function(f, float(t))
+
+
+def blas_library() -> str:
+    """The BLAS this process runs on, from the shared libraries mapped into it
+    (/proc/self/maps, Linux; "unknown" elsewhere): "openblas", "mkl", "blis", "reference"
+    (netlib's, Debian's /usr/lib/<arch>/blas/libblas.so.3) or the library's file name.
+    MUMPS's fronts, and so every direct factorization and BDDC's set-up, run on it: on the
+    2-core test host the reference BLAS made MUMPS's Cholesky of a 9.9e4-dof P2 shell
+    8 times slower than OpenBLAS (benchmarks/results/shell_precond.json)."""
+    try:
+        with open("/proc/self/maps") as f:
+            paths = {line.split()[-1] for line in f if ".so" in line}
+    except OSError:
+        return "unknown"
+    names = " ".join(sorted(paths)).lower()
+    for key in ("openblas", "mkl", "blis"):
+        if key in names:
+            return key
+    for path in sorted(paths):
+        if "libblas.so" in path:
+            return "reference" if "/blas/" in path or "netlib" in path else os.path.basename(path)
+    return "unknown"
+
+
+def use_mumps(pc, *, workspace: int | None = None) -> None:
+    """Make the factorization PC ``pc`` use MUMPS; with ``workspace`` its working
+    space is that many per cent above MUMPS's own estimate (ICNTL(14), MUMPS's default 20;
+    a ``mat_mumps_icntl_14`` option still wins)."""
+    pc.setFactorSolverType("mumps")
+    if workspace is None:
+        return
+    try:
+        pc.setFactorSetUpSolverType()      # the factor matrix, before PCSetUp factors it
+    except PETSc.Error:                    # no operator yet (a scratch PC): MUMPS's default
+        return
+    pc.getFactorMatrix().setMumpsIcntl(14, int(workspace))

@@ -111,7 +111,7 @@ class Elasticity(Problem):
 
     def __init__(self, structure, material, *, degree: int = 1, scheme: str = "static",
                  dt: float | None = None, rho_inf: float = 1.0, rayleigh=(0.0, 0.0),
-                 gravity=(0.0, 0.0, 0.0), T_ref: float = 0.0, factorization: str = "lu",
+                 gravity=(0.0, 0.0, 0.0), T_ref: float = 0.0, factorization: str | None = None,
                  solver: str = "auto", petsc_options: dict | None = None,
                  options_key: str = "structure.petsc", rtol: float | None = None):
         if degree not in (1, 2):

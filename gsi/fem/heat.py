@@ -105,7 +105,7 @@ class Heat(Problem):
     kind = "heat"
 
     def __init__(self, structure, material, *, dt: float, theta: float = 1.0,
-                 T_initial: float = 0.0, degree: int = 1, factorization: str = "lu",
+                 T_initial: float = 0.0, degree: int = 1, factorization: str | None = None,
                  solver: str = "auto", petsc_options: dict | None = None,
                  options_key: str = "structure.petsc", rtol: float | None = None,
                  theta_key: str = "structure.heat.theta"):

@@ -9,13 +9,39 @@ import re
 
 from gsi.errors import GsiInputError
 
-__all__ = ["SOLVERS", "ITERATIVE_RTOL", "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER",
-           "ITERATIVE_DEFAULTS", "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "choose_solver",
+__all__ = ["SOLVERS", "DIRECT_FACTORIZATION", "DIRECT_MUMPS_WORKSPACE", "ITERATIVE_RTOL",
+           "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER", "ITERATIVE_DEFAULTS",
+           "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "choose_solver", "direct_workspace",
            "iterative_defaults", "petsc_option_strings"]
 
 #: ``direct``: the factor in memory; ``out_of_core``: a MUMPS Cholesky factor written to
 #: disk (any number of ranks); ``iterative``: CG + algebraic multigrid; ``auto``: by size
 SOLVERS = ("direct", "out_of_core", "iterative", "auto")
+
+#: The one-rank MUMPS factorization of ``solver = "direct"`` when the problem is given none
+#: (``factorization``): Cholesky (LDL^T) for elasticity, whose step matrices (K, or
+#: c_M M + c_K K with Rayleigh damping, the Dirichlet rows and columns replaced by the
+#: identity) are symmetric: half LU's work and factor. Measured by MUMPS itself
+#: (benchmarks/shell_precond.py, 9.9e4-dof P2 silo shell, 2 ranks, load-independent
+#: figures): LU 213.5 Gflop and 1.39e8 factor entries, Cholesky 113.2 Gflop and 7.1e7;
+#: set-up 17.7 s against 11.0 s in the same run (load 12.7). MUMPS's orderings (METIS,
+#: PORD, SCOTCH, its automatic choice) lie within 4 % of each other there, and its parallel
+#: ordering is not available in this build (INFOG(1) = -38), so the ordering stays MUMPS's
+#: own. Heat keeps LU. On several ranks ``direct`` is SuperLU_DIST LU (bit-reproducible).
+DIRECT_FACTORIZATION = {"elasticity": "cholesky", "heat": "lu"}
+
+#: ... with MUMPS's working space this many per cent above its estimate (ICNTL(14), its
+#: default 20 %), by factorization: 50 % for Cholesky, whose symmetric-indefinite
+#: factorization delays pivots: at 2.2e5 dofs (the same shell, 2 ranks) it ran short of
+#: space with 20 % (INFOG(1) = -9, 1.4e6 entries missing) where LU passed.
+DIRECT_MUMPS_WORKSPACE = {"cholesky": 50}
+
+
+def direct_workspace(factorization: str, user_options) -> int | None:
+    """MUMPS's ICNTL(14) for the one-rank direct solver: DIRECT_MUMPS_WORKSPACE's, or None
+    (MUMPS's own) for LU and whenever the user gives PETSc options (they may choose another
+    package, or ``mat_mumps_icntl_14`` themselves)."""
+    return None if user_options else DIRECT_MUMPS_WORKSPACE.get(factorization)
 
 #: Relative tolerance of the iterative solvers: the (unpreconditioned) residual must fall
 #: to ITERATIVE_RTOL times the residual of the initial guess, ||b - A x|| <= ITERATIVE_RTOL
@@ -86,7 +112,7 @@ ITERATIVE_DEFAULTS = {
                         "pc_bddc_neumann_pc_factor_mat_solver_type": "mumps",
                         "pc_bddc_dirichlet_pc_type": "lu",
                         "pc_bddc_dirichlet_pc_factor_mat_solver_type": "mumps",
-                        "pc_bddc_coarse_redundant_pc_factor_mat_solver_type": "mumps"},
+                        "pc_bddc_coarse_redundant_pc_factor_mat_solver_type": "petsc"},
     "heat_hypre": {**_CG, "pc_type": "hypre", "pc_hypre_type": "boomeramg"},
     "heat_gamg": {**_CG, **_GAMG},
 }
@@ -95,7 +121,10 @@ ITERATIVE_DEFAULTS = {
 #: on the step matrix assembled unassembled (MATIS, one subdomain per rank), deluxe
 #: scaling, PETSc's adaptive coarse space (threshold 2: the interface eigenvectors of the
 #: generalized eigenproblems whose eigenvalues pass 2 join the coarse space), MUMPS for
-#: every local and the coarse solve, the six rigid-body modes as near-nullspace. Measured
+#: the local solves, PETSc's own LU for the coarse one (MUMPS's LU of the coarse matrix
+#: failed on a slender bar, PC reason FACTOR_OTHER, and its second solve with PETSc reason
+#: -11; PETSc's LU of the same matrix solves it: tests/mpi/bddc_energy_mpi_case.py), the
+#: six rigid-body modes as near-nullspace. Measured
 #: (benchmarks/shell_precond.py, uniformly refined P2 silo shell, CG to 1e-10): 11-14
 #: iterations from 4.9e3 to 9.9e4 dofs on 2, 4 and 8 subdomains. Its ``ksp_rtol`` is
 #: 1e-10, not ITERATIVE_RTOL: 1e-12 lies below the round-off floor of these systems

@@ -21,7 +21,7 @@ from gsi.errors import GsiInputError
 from . import compat
 from .dirichlet import Dirichlet
 from .materials import get_material
-from .options import ITERATIVE_RTOL, choose_solver, petsc_option_strings
+from .options import DIRECT_FACTORIZATION, ITERATIVE_RTOL, choose_solver, petsc_option_strings
 from .solvers import LinearSolver, make_solver
 
 
@@ -125,8 +125,9 @@ class Problem:
 
     material : StructuralMaterial or str or dict
         Material (library name, table, or object).
-    factorization : {"lu", "cholesky"}
-        MUMPS factorization of the step matrix (direct solver).
+    factorization : {"lu", "cholesky"}, optional
+        MUMPS factorization of the step matrix (direct solver, one rank); default
+        ``gsi.fem.options.DIRECT_FACTORIZATION[kind]`` (Cholesky for elasticity).
     solver : {"auto", "direct", "out_of_core", "iterative"}
         Linear solver: MUMPS factorized once, the same with the factor on disk (MUMPS
         Cholesky, any number of ranks), a Krylov method with an algebraic-multigrid
@@ -152,7 +153,7 @@ class Problem:
         self.mesh = structure.mesh
         self.comm = self.mesh.comm
         self.material = get_material(material)
-        self.factorization = factorization
+        self.factorization = factorization or DIRECT_FACTORIZATION[self.kind]
         choose_solver(solver, 0, self.kind)          # checks the name
         petsc_option_strings(petsc_options, options_key)
         self.solver, self.petsc_options, self.options_key = solver, petsc_options, options_key

@@ -44,7 +44,7 @@ from petsc4py import PETSc
 from gsi.errors import GsiInputError, GsiRunError
 
 from . import compat
-from .options import (ITERATIVE_ATOL, ITERATIVE_RTOL, OUT_OF_CORE_DEFAULTS,
+from .options import (ITERATIVE_ATOL, ITERATIVE_RTOL, OUT_OF_CORE_DEFAULTS, direct_workspace,
                       iterative_defaults, petsc_option_strings)
 
 
@@ -289,7 +289,7 @@ class FactorOnceSolver(LinearSolver):
         pc = ksp.getPC()
         if ksp.getComm().getSize() == 1:
             pc.setType(self.factorization)
-            pc.setFactorSolverType("mumps")
+            compat.use_mumps(pc, workspace=direct_workspace(self.factorization, self.user_options))
         else:
             pc.setType("lu")
             pc.setFactorSolverType("superlu_dist")
@@ -438,7 +438,7 @@ class IterativeSolver(LinearSolver):
             if matis is None:
                 raise GsiInputError(f"{options_key}.pc_type = 'bddc': BDDC is available for "
                                     "elasticity only; use pc_type = 'hypre' or 'gamg' here")
-            if comm.size == 1:  # one subdomain: PETSc 3.18 fails from its 2nd solve (-11)
+            if comm.size == 1:  # one subdomain: a direct solve, at BDDC's extra cost
                 raise GsiInputError(f"{options_key}.pc_type = 'bddc': needs 2 or more MPI "
                                     "ranks (a subdomain per rank); on one rank use "
                                     "solver = 'direct'")

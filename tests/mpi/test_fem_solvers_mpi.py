@@ -82,3 +82,15 @@ def test_iterative_matches_direct_on_thin_walls_on_2_ranks(tmp_path):
         assert min(min(its) for its in bd["its"][:2]) > 1
         for key, err in r[name]["bddc_errors"].items():
             assert err <= TOL, f"{name} bddc {key}: {err:.2e}"
+
+
+def test_bddc_keeps_average_acceleration_energy_on_2_ranks(tmp_path):
+    """BDDC's CG stops at 1e-10 of the step's initial residual (not gsi's 1e-12): the
+    suddenly loaded bar's energy under average acceleration is still conserved to the
+    validation case's 1e-9 of its magnitude over 300 steps (tests/validation/
+    test_fem_newmark_bar.py), as with the direct solver on the same 2 ranks."""
+    r = mpirun.run_json(HERE / "bddc_energy_mpi_case.py", 2, tmp_path / "energy.json")
+    assert r["n_ranks"] == 2 and r["bddc"]["pc"] == "cg + bddc"
+    assert len(r["bddc"]["its"]) == 300 and min(r["bddc"]["its"]) >= 1
+    for solver in ("direct", "bddc"):
+        assert r[solver]["spread"] <= 1e-9, f"{solver}: {r[solver]['spread']:.2e}"

@@ -267,3 +267,30 @@ def test_toml_solver_keys_are_checked_before_a_run(structure, message):
 def test_toml_solver_keys_reach_the_structure():
     st = _case({"solver": "iterative", "petsc": {"ksp_rtol": 1e-9, "ksp_monitor": False}})
     assert st.solver == "iterative" and st.petsc == {"ksp_rtol": 1e-9, "ksp_monitor": False}
+
+
+def test_one_rank_direct_factorization_defaults(slab):
+    """options.DIRECT_FACTORIZATION: elasticity's direct solve on one rank is MUMPS Cholesky
+    with 50 % working space over MUMPS's estimate (ICNTL(14)); LU (MUMPS's own 20 %) when
+    asked for, and for heat; the Cholesky answer is the LU one to round-off."""
+    if PETSc.COMM_WORLD.getSize() != 1:
+        pytest.skip("one rank")
+    out = {}
+    for fact in (None, "lu"):
+        p = Elasticity(slab, "steel", degree=2, solver="direct", factorization=fact)
+        p.clamp("support")
+        p.set_traction("contact", [0.0, 0.0, -2.0e4])
+        p.solve()
+        factor = p.linear_solver.ksp.getPC().getFactorMatrix()
+        out[fact] = (p.linear_solver.describe(), factor.getMumpsIcntl(14),
+                     p.u.x.array.copy())
+        del factor
+    assert out[None][:2] == ("preonly + cholesky", 50)
+    assert out["lu"][:2] == ("preonly + lu", 20)
+    u_c, u_lu = out[None][2], out["lu"][2]
+    assert np.abs(u_c - u_lu).max() <= 1e-10 * np.abs(u_lu).max()
+    assert np.abs(u_lu).max() > 0
+    h = Heat(slab, "steel", dt=1.0, solver="direct")
+    h.fix_temperature("support", 20.0)
+    h.step()
+    assert h.linear_solver.describe() == "preonly + lu"
