@@ -77,11 +77,13 @@ def perturb(x: np.ndarray, k: int, plane: str = "xyz", shift: float = SHIFT) -> 
 
 
 def default_workers() -> int:
-    """``NUMBA_NUM_THREADS`` if set (the cores this process was given), else
-    ``os.cpu_count()``."""
-    env = os.environ.get("NUMBA_NUM_THREADS", "").strip()
-    if env.isdigit() and int(env) > 0:
-        return int(env)
+    """``GSI_ENSEMBLE_WORKERS`` if set (``1``: every member in-process, e.g. to time or
+    debug them), else ``NUMBA_NUM_THREADS`` if set (the cores this process was given),
+    else ``os.cpu_count()``."""
+    for key in ("GSI_ENSEMBLE_WORKERS", "NUMBA_NUM_THREADS"):
+        env = os.environ.get(key, "").strip()
+        if env.isdigit() and int(env) > 0:
+            return int(env)
     return max(1, os.cpu_count() or 1)
 
 
