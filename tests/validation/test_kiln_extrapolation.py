@@ -64,30 +64,48 @@ def _case():
     return case
 
 
+def _extract(runner):
+    """What the ensemble tests need of a member (picklable): counts, the summary, the
+    extrapolation's CSV, the logged period, the FE wall's rows in the log, the errors."""
+    res = runner.result
+    csv = np.genfromtxt(runner.out / "extrapolation.csv", delimiter=",", names=True)
+    log = ContactLog.load(runner.out / "contact_log.npz")
+    fe_wall = runner.sim.wall_slot(runner.structures[0].wall)
+    rows = log.pw_wall == fe_wall
+    return dict(n=res.n_particles, lost=res.n_lost, summary=res.summary, csv=csv,
+                period=log.period, x1=log.x1, fe_rows=int(rows.sum()),
+                fe_tri=(int(log.pw_tri[rows].min()), int(log.pw_tri[rows].max())),
+                n_tri=len(runner.structures[0].interface.triangles),
+                errors=_errors(runner, csv, log))
+
+
 @pytest.fixture(scope="module")
-def kiln_ensemble(tmp_path_factory, ens):
-    """M realisations of the kiln: per member (runner, result, csv, log)."""
+def kiln_members(tmp_path_factory, ens):
+    """M realisations of the kiln side by side; member 0 runs in this process (its
+    runner, with the FE shell, is :func:`kiln`'s)."""
     out = tmp_path_factory.mktemp("kiln")
-    members = []
-    for k, r in enumerate(ens.run_members(_case, out, M)):
-        d = out / f"m{k}"
-        csv = np.genfromtxt(d / "extrapolation.csv", delimiter=",", names=True)
-        members.append((r, r.result, csv, ContactLog.load(d / "contact_log.npz")))
-    return members
+    return ens.run_members(_case, out, M, extract=_extract, keep=(0,))
 
 
 @pytest.fixture(scope="module")
-def kiln(kiln_ensemble):
-    """Member 0, the case as it is."""
-    return kiln_ensemble[0]
+def kiln_ensemble(kiln_members):
+    """Per member: the dict of :func:`_extract`."""
+    return [_extract(m) if k == 0 else m for k, m in enumerate(kiln_members)]
 
 
-def _errors(member):
+@pytest.fixture(scope="module")
+def kiln(kiln_members):
+    """Member 0, the case as it is: (runner, result, csv, log)."""
+    r = kiln_members[0]
+    return (r, r.result, np.genfromtxt(r.out / "extrapolation.csv", delimiter=",", names=True),
+            ContactLog.load(r.out / "contact_log.npz"))
+
+
+def _errors(runner, csv, log):
     """The chaotic quantities of one member against its own full DEM + FE run: the largest
     difference over the compared periods of the bed's, the hot and cold halves' and the
     shell's mean temperatures (K), of the heat the bed took per period (relative), of
     eq. 10, and eq. 9 on 200 cells and on 12 cells of 25 particles (K)."""
-    runner, _, csv, log = member
     live = ~np.isnan(csv["T_mean_dem"])
     assert live.sum() == 4
     e = {a: float(np.abs(csv[f"{a}_extra"][live] - csv[f"{a}_dem"][live]).max())
@@ -114,24 +132,22 @@ def _errors(member):
 def test_the_kiln_is_the_drum_family_cascading(kiln_ensemble):
     g = kiln_geometry(300)
     assert g.regime == "cascading" and g.period == pytest.approx(2.0)
-    for runner, res, csv, log in kiln_ensemble:
-        assert res.n_particles == 300 and res.n_lost == 0
-        assert log.period == pytest.approx(0.5) and len(csv) == 21
+    for m in kiln_ensemble:
+        assert m["n"] == 300 and m["lost"] == 0
+        assert m["period"] == pytest.approx(0.5) and len(m["csv"]) == 21
         # the FE wall's contacts are in the log, with their triangles
-        fe_wall = runner.sim.wall_slot(runner.structures[0].wall)
-        rows = log.pw_wall == fe_wall
-        assert rows.sum() > 100
-        assert log.pw_tri[rows].min() >= 0
-        assert log.pw_tri[rows].max() < len(runner.structures[0].interface.triangles)
+        assert m["fe_rows"] > 100
+        assert m["fe_tri"][0] >= 0 and m["fe_tri"][1] < m["n_tri"]
     # the members are distinct realisations
-    assert not np.array_equal(kiln_ensemble[0][3].x1, kiln_ensemble[1][3].x1)
+    assert not np.array_equal(kiln_ensemble[0]["x1"], kiln_ensemble[1]["x1"])
 
 
 def test_replay_balances_bed_shell_and_outer_heat_to_round_off(kiln_ensemble):
-    for _, res, csv, _ in kiln_ensemble:
+    for m in kiln_ensemble:
+        csv = m["csv"]
         E = csv["E_particles_extra"] + csv["E_structure_extra"] - csv["Q_boundary_extra"]
         assert np.abs(E - E[0]).max() < 1e-12 * abs(E[0])
-        assert res.summary["energy_balance_rel"] < 1e-12
+        assert m["summary"]["energy_balance_rel"] < 1e-12
         # heat did flow: the shell heated the bed, the jacket re-heated the shell
         assert csv["Q_wall_extra"][1:].min() > 0
         assert csv["T_mean_extra"][-1] > csv["T_mean_extra"][0] + 0.5
@@ -160,7 +176,7 @@ BOUNDS = (("T_mean", 0.05, "K", "bed mean temperature, largest |extra - DEM| ove
 def test_replay_follows_the_full_dem_fe_run(kiln_ensemble, ens, record_validation, key,
                                             bound, unit, what):
     """Ensemble mean + 3 SE of each member's largest error <= the bound."""
-    v = [_errors(m)[key] for m in kiln_ensemble]
+    v = [m["errors"][key] for m in kiln_ensemble]
     s = ens.stat(v, SD_FLOOR[key])
     print(f"kiln {key}: members {np.round(v, 5)}; {s.text()}; sd {float(s.sd):.3g}")
     record_validation(f"kiln (300, FE shell, M = {M}): {what}, ensemble mean + 3 SE",
