@@ -15,8 +15,7 @@ thread anyway, so on a machine with two cores two members run in about the time 
 Shared set-up (a settling before the members diverge) is done once by the caller and
 passed to every member as plain arrays (:meth:`gsi.dem.Simulation.state`).
 
-Choices, measured on the quick drum and the thesis cases (2 cores; numbers in the
-function docstring):
+Choices (costs measured in :func:`run_ensemble`'s docstring):
 
 - **start method ``spawn``** (default; ``forkserver`` is accepted): a worker is a fresh
   interpreter that imports gsi and loads the cached numba engines itself. ``fork`` is
@@ -139,9 +138,13 @@ def run_ensemble(member: Callable, indices: Iterable[int] | int, *, args: Sequen
     EnsembleError
         The first member that failed (the others are cancelled), with its traceback.
 
-    Cost (measured on a loaded 2-core machine, 2026-12-05): a spawned worker imports gsi
-    and loads the cached engine in about 2-4 s, once per worker (not per member); the
-    members then run concurrently.
+    Cost, measured on a 2-core machine at load 4-8 (other jobs): a pool of two spawned
+    workers running an empty member costs 0.8 s; importing gsi's case and DEM packages
+    and loading the cached engine adds 4-5 s per worker (once per worker, not per
+    member; about 2.7 s of it is the import). Paired runs of the same tests with 1 and 2
+    workers at load 4: seed 001 case 5 (5 members of about 3 s) 20.1 -> 10.7 s; the
+    grate demo's 3 fills 10.8 -> 9.9 s; cases 6/7 (6 members) 124 -> 120 s, whose runs
+    are not CPU-bound on that machine (one member: 72 s wall for 17 s of CPU).
     """
     ks = list(range(indices)) if isinstance(indices, (int, np.integer)) else list(indices)
     kwargs = dict(kwargs or {})
