@@ -143,8 +143,10 @@ def run_ensemble(member: Callable, indices: Iterable[int] | int, *, args: Sequen
     and loading the cached engine adds 4-5 s per worker (once per worker, not per
     member; about 2.7 s of it is the import). Paired runs of the same tests with 1 and 2
     workers at load 4: seed 001 case 5 (5 members of about 3 s) 20.1 -> 10.7 s; the
-    grate demo's 3 fills 10.8 -> 9.9 s; cases 6/7 (6 members) 124 -> 120 s, whose runs
-    are not CPU-bound on that machine (one member: 72 s wall for 17 s of CPU).
+    grate demo's 3 fills 10.8 -> 9.9 s; cases 6/7 (6 members) 124 -> 120 s; the quick
+    drum (4 members of about 28 s CPU) 115 -> 119 s at load 3, where the two workers got
+    101 % of a core between them (120.7 s CPU): the gain needs a second core that other
+    jobs leave free; the price is the workers' start, about 5 s of CPU each.
     """
     ks = list(range(indices)) if isinstance(indices, (int, np.integer)) else list(indices)
     kwargs = dict(kwargs or {})
