@@ -37,7 +37,8 @@ import numpy as np
 from gsi.errors import GsiInputError
 
 __all__ = ["DrumGeometry", "REFERENCE", "drum_geometry", "froude", "regime", "drum_case",
-           "PARTICLE_RADIUS", "DT", "DT_SPLIT", "EVERY", "T_HOT", "T_COLD", "ROLLING_PERIOD"]
+           "PARTICLE_RADIUS", "DT", "DT_SPLIT", "EVERY", "T_HOT", "T_COLD", "ROLLING_PERIOD",
+           "prepare", "restore"]
 
 #: particle radius (m), seed 003 Table 3
 PARTICLE_RADIUS = 0.005
@@ -319,3 +320,23 @@ def prepare(geometry: DrumGeometry, *, settle: float = 0.8, spin_up: float = 1.0
     if timing is not None:
         timing.update(spin_seconds=float(spin[0]), spin_steps=int(spin[1]))
     return sim, hot, case
+
+
+def restore(geometry: DrumGeometry, state: dict, *, settle: float = 0.8, seed: int = 3,
+            skin: float | None = None, dt: float = DT):
+    """The drum simulation :func:`prepare` builds (same ``geometry``, ``settle``, ``seed``,
+    ``skin``, ``dt``) set to ``state`` (:meth:`gsi.dem.Simulation.state` of such a drum,
+    e.g. after :func:`prepare`): the next step continues bitwise where that simulation
+    stood, turning wall included. This is how an ensemble's members start from one
+    shared set-up in other processes (:func:`gsi.studies.ensemble.run_ensemble`).
+
+    Returns
+    -------
+    sim : gsi.dem.Simulation
+    case : gsi.case.Case
+    """
+    from gsi.case.build_dem import build_simulation
+    case = drum_case(geometry, settle=settle, seed=seed, skin=skin, dt=dt)
+    sim, _, _ = build_simulation(case, dt=case.check())
+    sim.set_state(state)
+    return sim, case

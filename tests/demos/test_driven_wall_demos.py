@@ -4,12 +4,14 @@ against statics, the lift-off time or the prescribed motion."""
 import dataclasses
 import math
 import pathlib
+import types
 
 import numpy as np
 import pytest
 
 from gsi.case import load_case
 from gsi.run import run_case
+from gsi.studies.ensemble import run_ensemble
 
 DEMOS = pathlib.Path(__file__).resolve().parents[2] / "demos"
 
@@ -78,6 +80,14 @@ def test_vibrated_bed_quick(tmp_path):
 GRATE_SEEDS = (11, 12, 13)          # the demo's seed and two more: an ensemble of fills
 
 
+def _grate_member(seed, case, out):
+    """The grate with fill ``seed``, quick: its result (counts and monitors: picklable)."""
+    member = dataclasses.replace(case, run=dataclasses.replace(case.run, seed=seed))
+    res = run_case(member, out=out / f"seed{seed}", quick=True, pictures=False,
+                   verbose=False)
+    return types.SimpleNamespace(n_lost=res.n_lost, monitors=res.monitors)
+
+
 def test_grate_quick(tmp_path, record_validation):
     """Seed 000's forward-acting grate (demos/grate.toml): the moving bars follow their
     stroke (on the chord between updates every 20 steps, within A (w k dt)^2/8); the bed
@@ -86,15 +96,13 @@ def test_grate_quick(tmp_path, record_validation):
     in the ensemble mean less 3 standard errors (the bed is chaotic: one fill is one
     realisation; measured on seeds 11-15: gains 12, 18, 15, 18, 14, a systematic push of
     ~1.5 mm per stroke); in every member the hot roof heats the top of the bed while its
-    bottom stays cold."""
+    bottom stays cold (the fills run two at a time)."""
     case = load_case(DEMOS / "grate.toml")
     A, w, k = 0.006, 2 * math.pi * 5.0, 20
     dt = case.time_step()
     gains = []
-    for seed in GRATE_SEEDS:
-        member = dataclasses.replace(case, run=dataclasses.replace(case.run, seed=seed))
-        res = run_case(member, out=tmp_path / f"seed{seed}", quick=True, pictures=False,
-                       verbose=False)
+    # the fills run two at a time (gsi.studies.ensemble: one worker process per core)
+    for res in run_ensemble(_grate_member, GRATE_SEEDS, args=(case, tmp_path)):
         st = res.monitors["stroke"]
         s = A * (1 - np.cos(w * st["time_s"]))
         np.testing.assert_allclose(st["position"], s, rtol=0,

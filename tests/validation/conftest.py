@@ -6,9 +6,13 @@ within a fraction of a second. A test that asserts on one trajectory then passes
 on round-off. The chaotic cases are therefore judged by an *ensemble*: ``M`` realisations
 of the same case that differ only in their start positions, member ``k`` having every
 particle moved by ``k`` x 0.5 nm times a uniform random number in [-1, 1] per coordinate
-(generator ``k``; member 0 is the case as it is; quasi-2D cases move in their plane
-only), far below any physical scale (particle radii are millimetres) yet far above
-round-off, so the members are independent samples of the flow.
+(:func:`gsi.studies.ensemble.perturb`: generator ``k``; member 0 is the case as it is;
+quasi-2D cases move in their plane only), far below any physical scale (particle radii
+are millimetres) yet far above round-off, so the members are independent samples of the
+flow. The members run side by side, one per core (:func:`gsi.studies.ensemble.
+run_ensemble`: spawned workers, one numba thread each; a member's result is bitwise the
+one it gives in-process), so a member function and what it returns must be picklable: a
+module-level function returning plain arrays.
 
 A claim "q <= bound" holds when the ensemble mean plus three standard errors is below
 the bound, mean + 3 SE <= bound (and "q >= bound" when mean - 3 SE >= bound), with
@@ -36,9 +40,8 @@ import numpy as np
 import pytest
 
 from gsi.run import Runner
+from gsi.studies.ensemble import SHIFT, perturb, run_ensemble
 
-#: sub-nanometre start perturbation per member index (m)
-SHIFT = 0.5e-9
 #: time-step factor of the ensemble cases (see the module docstring)
 DT_SCALE = float(os.environ.get("GSI_TEST_DT_SCALE", "1"))
 
@@ -74,19 +77,6 @@ def ensemble_stat(values, sd_floor=0.0) -> Stat:
     return Stat(mean=v.mean(axis=0), sd=sd, se=se, members=M)
 
 
-def perturb(x, k: int, plane: str = "xyz") -> None:
-    """Move positions ``x`` (n, 3), in place, by member ``k``'s perturbation: up to
-    k x :data:`SHIFT` in each coordinate of ``plane`` (generator ``k``)."""
-    if k == 0:
-        return
-    rng = np.random.default_rng(k)
-    d = SHIFT * k * rng.uniform(-1.0, 1.0, x.shape)
-    for axis in range(3):
-        if "xyz"[axis] not in plane:
-            d[:, axis] = 0.0
-    x += d
-
-
 def with_dt_scale(case):
     """``case`` (a validated :class:`gsi.case.Case`) with its time step times
     :data:`DT_SCALE` (unchanged for 1)."""
@@ -113,22 +103,45 @@ class PerturbedRunner(Runner):
             perturb(self.sim.x, self.member, self.plane)
 
 
-def run_members(case_factory, out, members: int, *, plane="xyz", **kw) -> list:
-    """Run ``members`` realisations of ``case_factory()`` (a fresh case per member) in
-    ``out``/m<k>; returns the :class:`PerturbedRunner` objects, run (``.result``)."""
-    runners = []
-    for k in range(members):
-        r = PerturbedRunner(case_factory(), member=k, plane=plane, out=out / f"m{k}",
-                            pictures=False, verbose=False, **kw)
-        r.result = r.run()
-        runners.append(r)
-    return runners
+def _case_member(i, specs, out, plane, extract, keep, kw):
+    """Run ``specs[i]`` = (case, member k, directory) by a :class:`PerturbedRunner` in
+    ``out``/directory: the runner itself if ``i`` is in ``keep`` (run in the test's own
+    process), else ``extract(runner)`` (what the test needs, picklable)."""
+    case, k, name = specs[i]
+    r = PerturbedRunner(case, member=k, plane=plane, out=out / name, pictures=False,
+                        verbose=False, **kw)
+    r.result = r.run()
+    return r if i in keep else extract(r)
+
+
+def run_cases(specs, out, *, plane="xyz", extract=None, keep=(), workers=None, **kw) -> list:
+    """Run the members ``specs`` = [(case, k, directory), ...] (member ``k``'s start
+    perturbation) side by side (:func:`gsi.studies.ensemble.run_ensemble`), several
+    ensembles in one pool if the specs hold several cases. Entry ``i`` returns
+    ``extract(runner)`` (a module-level function of the test module; picklable output),
+    or for ``i`` in ``keep`` its run :class:`PerturbedRunner` (``.result``), run in this
+    process; without ``extract`` every member runs here, one after the other."""
+    specs = list(specs)
+    if extract is None:
+        keep, workers = tuple(range(len(specs))), 1
+    return run_ensemble(_case_member, len(specs), args=(specs, out, plane, extract,
+                                                        tuple(keep), kw),
+                        here=tuple(keep), workers=workers)
+
+
+def run_members(case_factory, out, members: int, **kw) -> list:
+    """:func:`run_cases` of ``members`` realisations of ``case_factory()`` (a fresh case
+    per member) in ``out``/m<k>."""
+    return run_cases([(case_factory(), k, f"m{k}") for k in range(members)], out, **kw)
 
 
 @pytest.fixture(scope="session")
 def ens():
     """The helpers of this module for the test modules (which cannot import a conftest
     under ``--import-mode=importlib``): ``ens.stat``, ``ens.perturb``, ``ens.run_members``,
+    ``ens.run_cases``, ``ens.run_ensemble``,
     ``ens.with_dt_scale``, ``ens.DT_SCALE``, ``ens.SHIFT``."""
     return types.SimpleNamespace(stat=ensemble_stat, perturb=perturb, run_members=run_members,
-                                 with_dt_scale=with_dt_scale, DT_SCALE=DT_SCALE, SHIFT=SHIFT)
+                                 run_cases=run_cases,
+                                 run_ensemble=run_ensemble, with_dt_scale=with_dt_scale,
+                                 DT_SCALE=DT_SCALE, SHIFT=SHIFT)
