@@ -184,12 +184,23 @@ def run_ensemble(member: Callable, indices: Iterable[int] | int, *, args: Sequen
             for k, f in zip(remote, futures):
                 if f.done() and f.exception() is not None:
                     exc = f.exception()
-                    raise EnsembleError(k, f"{type(exc).__name__}: {exc}") from exc
+                    raise EnsembleError(k, f"{type(exc).__name__}: {exc}{_hint(exc)}") from exc
             results.update((k, f.result()) for k, f in zip(remote, futures))
     finally:
         if pool is not None:
             pool.shutdown(wait=True, cancel_futures=True)
     return [results[k] for k in ks]
+
+
+def _hint(exc) -> str:
+    """What a worker that died usually means (a spawned worker re-imports the calling
+    script: run at its top level, ``run_ensemble`` starts again inside the worker)."""
+    from concurrent.futures.process import BrokenProcessPool
+    if not isinstance(exc, BrokenProcessPool):
+        return ""
+    return ("; a worker died: if this is a script, put its top-level code under "
+            "`if __name__ == \"__main__\":` (workers re-import it), or run with "
+            "GSI_ENSEMBLE_WORKERS=1 to see the member's own error")
 
 
 def _start(member, ks, args, kwargs, n, start_method):
