@@ -446,3 +446,25 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
                         m += 1
     mc_start, order = bin_cells(m, ent_i, n)      # stable: ascending triangles per particle
     return mc_start, ent_t[order]
+
+
+@njit
+def count_contacts(start, j, active, with_pairs, plane_mask, tri_count, out):
+    """Contacts per particle at the last force pass into ``out`` (n,): the touching pairs
+    (``active`` flags of the half list, counted at both particles, if ``with_pairs``), the
+    touched planes (bits of ``plane_mask``) and the accepted triangle contacts
+    (``tri_count``): what the force pass evaluated."""
+    n = out.shape[0]
+    for i in range(n):
+        c = tri_count[i]
+        m = plane_mask[i]
+        while m != 0:
+            m &= m - 1
+            c += 1
+        out[i] = c
+    if with_pairs:
+        for i in range(n):
+            for k in range(start[i], start[i + 1]):
+                if active[k] != 0:
+                    out[i] += 1
+                    out[j[k]] += 1
