@@ -2,6 +2,7 @@
 turning mesh wall, no plane): where the step goes, per thread count.
 
     python benchmarks/drum_profile.py [--particles 5000] [--steps 1000] [--threads 1,2]
+                                      [--no-sort]
 
 The drum of :mod:`gsi.studies.drum` is filled, settled and turned ``--spin-up`` turns (default
 0.05); then, for each thread count, ``--steps`` steps are timed (wall clock) and the
@@ -118,6 +119,9 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=1000)
     ap.add_argument("--threads", default="1,2")
     ap.add_argument("--spin-up", type=float, default=0.05, help="turns before timing")
+    ap.add_argument("--no-sort", action="store_true",
+                    help="keep the particle rows in id order (default: sorted at each build, "
+                         "as drum_vs_liggghts.py runs)")
     ap.add_argument("--skin", type=float, default=None,
                     help="Verlet skin in particle radii (default gsi's 0.4)")
     args = ap.parse_args(argv)
@@ -126,6 +130,7 @@ def main(argv=None):
     from gsi.studies.drum import PARTICLE_RADIUS
     skin = None if args.skin is None else args.skin * PARTICLE_RADIUS
     sim, _, _ = prepare(drum_geometry(args.particles), spin_up=args.spin_up, skin=skin)
+    sim.sort_particles = not args.no_sort      # as benchmarks/drum_vs_liggghts.py
     line = ""
     for threads in [int(t) for t in args.threads.split(",")]:
         numba.set_num_threads(threads)

@@ -14,8 +14,7 @@ from gsi.dem.state import Particles, as_tuple
 
 @njit
 def clear_one(i, gx, gy, gz, P):
-    """F = m g, T = 0, Q = 0, contact count 0 for particle i (before contacts add up)."""
-    P.ncontact[i] = 0
+    """F = m g, T = 0, Q = 0 for particle i (before contacts add up)."""
     m = P.mass[i]
     P.force[i, 0] = m * gx
     P.force[i, 1] = m * gy

@@ -74,6 +74,21 @@ def find_pairs(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims
 
 
 @njit
+def cell_ordered(x, radius, cell_list):
+    """(x, R) of the particles in cell order, one row of 4 per particle (row p: particle
+    ``cell_list[p]``): the searches then read the partners of a cell from consecutive
+    rows instead of from rows scattered over the arrays (unsorted particle rows)."""
+    xs = np.empty((cell_list.shape[0], 4))
+    for p in range(cell_list.shape[0]):
+        i = cell_list[p]
+        xs[p, 0] = x[i, 0]
+        xs[p, 1] = x[i, 1]
+        xs[p, 2] = x[i, 2]
+        xs[p, 3] = radius[i]
+    return xs
+
+
+@njit
 def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
                       nb_start, cap):
     """The half list of :func:`find_pairs` in one serial pass over half the cell stencil
@@ -84,7 +99,11 @@ def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_lis
     lower slab (ties: the smaller index), through (owner, partner) entries and a stable
     counting sort by owner (:func:`gsi.dem.cells.bin_cells`); a row lists its partners
     in the order found (:func:`sort_rows` orders them).  ``cap``: entries to allocate at
-    first (grown by doubling).  Fills ``nb_start`` (n + 1); returns ``nb_j``."""
+    first (grown by doubling).  Fills ``nb_start`` (n + 1); returns ``nb_j``.  Positions
+    and radii are read from a copy in cell order (:func:`cell_ordered`: the same values,
+    so the same pairs bit for bit; a 5,000-sphere drum's rebuild spent most of its time
+    here, in reads of partners scattered over x)."""
+    xs = cell_ordered(x, radius, cell_list)
     ent_i = np.empty(cap, np.int64)
     ent_j = np.empty(cap, np.int32)
     m = 0
@@ -101,13 +120,13 @@ def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_lis
                 continue
             for p in range(c0, c1):
                 i = cell_list[p]
-                ri = radius[i]
+                ri = xs[p, 3]
                 for q in range(p + 1 if k == 13 else cell_start[c2], cell_start[c2 + 1]):
-                    j = cell_list[q]
-                    rc = ri + radius[j] + skin
-                    d2 = ((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2
-                          + (x[j, 2] - x[i, 2]) ** 2)
+                    rc = ri + xs[q, 3] + skin
+                    d2 = ((xs[q, 0] - xs[p, 0]) ** 2 + (xs[q, 1] - xs[p, 1]) ** 2
+                          + (xs[q, 2] - xs[p, 2]) ** 2)
                     if d2 < rc * rc:
+                        j = cell_list[q]
                         if m == cap:                  # grow the entry buffers
                             cap *= 2
                             ni = np.empty(cap, np.int64)
@@ -376,6 +395,7 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
     cs = 1.0 / inv_cs
     half_diag = 0.5 * math.sqrt(cs[0] ** 2 + cs[1] ** 2 + cs[2] ** 2)
     plane_reach2 = (half_diag + inflate) ** 2 * (1.0 + 1e-9)
+    xs = cell_ordered(x, radius, cell_list)      # (x, R) in cell order
     cap = 4 * n + 64
     ent_i = np.empty(cap, np.int64)
     ent_t = np.empty(cap, np.int32)
@@ -403,25 +423,48 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
                     if h * h > plane_reach2 * N2:
                         continue
                     for q in range(cell_start[c], cell_start[c + 1]):
-                        i = cell_list[q]
-                        rc = radius[i] + skin
+                        px_ = xs[q, 0]
+                        py_ = xs[q, 1]
+                        pz_ = xs[q, 2]
+                        rc = xs[q, 3] + skin
                         rb = rc * (1.0 + 1e-9)        # the box test never drops a candidate
-                        if (x[i, 0] < x_lo - rb or x[i, 0] > x_hi + rb
-                                or x[i, 1] < y_lo - rb or x[i, 1] > y_hi + rb
-                                or x[i, 2] < z_lo - rb or x[i, 2] > z_hi + rb):
+                        if (px_ < x_lo - rb or px_ > x_hi + rb
+                                or py_ < y_lo - rb or py_ > y_hi + rb
+                                or pz_ < z_lo - rb or pz_ > z_hi + rb):
                             continue
                         rc2 = rc * rc
-                        h = ((x[i, 0] - ax_) * Nx + (x[i, 1] - ay_) * Ny
-                             + (x[i, 2] - az_) * Nz)
+                        h = (px_ - ax_) * Nx + (py_ - ay_) * Ny + (pz_ - az_) * Nz
                         if h * h >= rc2 * N2:
                             continue
                         qx, qy, qz, wa, wb, wc, reg = closest_point_triangle(
-                            x[i, 0], x[i, 1], x[i, 2], ax_, ay_, az_, bx_, by_, bz_,
-                            cx_, cy_, cz_)
-                        d2 = (qx - x[i, 0]) ** 2 + (qy - x[i, 1]) ** 2 + (qz - x[i, 2]) ** 2
+                            px_, py_, pz_, ax_, ay_, az_, bx_, by_, bz_, cx_, cy_, cz_)
+                        d2 = (qx - px_) ** 2 + (qy - py_) ** 2 + (qz - pz_) ** 2
                         if not d2 < rc2:
                             continue
+                        i = cell_list[q]
                         ent_i, ent_t = _push(ent_i, ent_t, m, i, t)
                         m += 1
     mc_start, order = bin_cells(m, ent_i, n)      # stable: ascending triangles per particle
     return mc_start, ent_t[order]
+
+
+@njit
+def count_contacts(start, j, active, with_pairs, plane_mask, tri_count, out):
+    """Contacts per particle at the last force pass into ``out`` (n,): the touching pairs
+    (``active`` flags of the half list, counted at both particles, if ``with_pairs``), the
+    touched planes (bits of ``plane_mask``) and the accepted triangle contacts
+    (``tri_count``): what the force pass evaluated."""
+    n = out.shape[0]
+    for i in range(n):
+        c = tri_count[i]
+        m = plane_mask[i]
+        while m != 0:
+            m &= m - 1
+            c += 1
+        out[i] = c
+    if with_pairs:
+        for i in range(n):
+            for k in range(start[i], start[i + 1]):
+                if active[k] != 0:
+                    out[i] += 1
+                    out[j[k]] += 1

@@ -275,7 +275,6 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
             tq[j, 0] += B[TJX + l]
             tq[j, 1] += B[TJY + l]
             tq[j, 2] += B[TJZ + l]
-            P.ncontact[j] += 1
             hist[k, 0] = B[HX + l]
             hist[k, 1] = B[HY + l]
             hist[k, 2] = B[HZ + l]
@@ -283,7 +282,6 @@ def finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model
                 Qp = B[Q + l]
                 qi += Qp
                 P.q[j] -= Qp
-        P.ncontact[i] += np.int32(blane[b + 1] - blane[b])
         f[i, 0] += fx
         f[i, 1] += fy
         f[i, 2] += fz

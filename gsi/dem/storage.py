@@ -264,8 +264,19 @@ class ParticleViews:
 
     @property
     def ncontact(self):
-        """Contacts per particle at the last step (n,)."""
-        return self.store.view("ncontact")
+        """Contacts per particle at the last step (n,): its touching pairs, planes and
+        triangles, counted here from the contact flags the force pass leaves in the lists
+        (:func:`gsi.dem.neighbour.count_contacts`; the force pass itself does not count:
+        a store per pair partner less in its scatter).  Pairs count only while the lists
+        are those of the current rows (after particles are added or removed: from the
+        next step on)."""
+        from gsi.dem.neighbour import count_contacts
+        nc = self.store.view("ncontact")
+        pairs = self.pairs
+        wc = self.wall_contacts
+        count_contacts(pairs.start, pairs.j, pairs.active, len(pairs.start) - 1 == len(nc),
+                       wc.plane_mask, wc.count, nc)
+        return nc
 
     def kinetic_energy(self, *, rotational=True):
         """Kinetic energy (J) of all particles: translation (+ rotation)."""

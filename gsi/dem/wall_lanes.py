@@ -147,7 +147,7 @@ def gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, n, row
 def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, tab, dt, model,
                  heat_on, pl_acc):
     """The contact model over the ``n`` wall lanes, then each contact added to its particle
-    (force, torque lever n x F + M_r, heat, contact count), the springs stored, and the
+    (force, torque lever n x F + M_r, heat), the springs stored, and the
     wall's share kept: the plane sums of slab ``sl`` in ``pl_acc[sl, p]`` (force, moment
     about the plane's point at the contact point, heat; see
     :func:`gsi.dem.wall_kernels.plane_sums`), the triangle slots in ``wc.force``,
@@ -200,7 +200,6 @@ def finish_walls(n, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, ta
         P.torque[i, 0] += lever * (ny * fz - nz * fy) + W[MX + l]
         P.torque[i, 1] += lever * (nz * fx - nx * fz) + W[MY + l]
         P.torque[i, 2] += lever * (nx * fy - ny * fx) + W[MZ + l]
-        P.ncontact[i] += 1
         if heat_on:
             P.q[i] += Qw
 

@@ -53,13 +53,25 @@ def one_step_force(x, floor=None, delta=1e-5):
     ("vertex_6", (2.0e-3, 2.0e-3), "grid"),
     ("vertex_fan_8", (0.0, 0.0), "fan"),
     ("edge_fan", (1.2e-3, 0.0), "fan"),
+    # a fine grid: a few hundred candidates, the contact's past the 64th, where the
+    # de-duplication recomputes closest points instead of reading its mask (mesh_dedup)
+    ("vertex_fine", (2.0e-3, 2.0e-3), "fine"),
+    ("edge_fine", (2.05e-3, 2.0e-3), "fine"),
+    ("face_fine", (2.03e-3, 2.06e-3), "fine"),
 ])
 def test_same_force_on_face_edge_vertex(where, xy, floor):
-    geometry = grid_floor() if floor == "grid" else fan_floor()
-    f_plane, w_plane, _ = one_step_force(xy)
-    f_mesh, w_mesh, _ = one_step_force(xy, geometry)
+    geometry = {"grid": grid_floor, "fan": fan_floor,
+                "fine": lambda: grid_floor(n=40, h=1e-4)}[floor]()
+    # on the fine grid the contact circle (radius sqrt(2 R delta)) must stay inside the
+    # features next to the contact point, or it reaches other triangles' edges
+    delta = 1e-7 if floor == "fine" else 1e-5
+    f_plane, w_plane, _ = one_step_force(xy, delta=delta)
+    f_mesh, w_mesh, sim = one_step_force(xy, geometry, delta=delta)
+    if floor == "fine":
+        assert sim.wall_contacts.count[0] == 1
+        assert sim.wall_contacts.cand[0, 0] - sim.pairs.tri_start[0] >= 64
     E_eff = 1 / (2 * (1 - 0.3 ** 2) / MAT.E)
-    assert f_plane[2] == pytest.approx(4 / 3 * E_eff * math.sqrt(R) * 1e-5 ** 1.5, rel=1e-3)
+    assert f_plane[2] == pytest.approx(4 / 3 * E_eff * math.sqrt(R) * delta ** 1.5, rel=1e-3)
     np.testing.assert_allclose(f_mesh, f_plane, rtol=1e-9, atol=1e-12 * abs(f_plane[2]))
     np.testing.assert_allclose(w_mesh, w_plane, rtol=1e-9, atol=1e-12 * abs(f_plane[2]))
 
