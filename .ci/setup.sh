@@ -9,9 +9,16 @@ cd "$(dirname "$0")/.."
 # normalize.css come with them) and a headless browser
 DOCS_DEBS="python3-sphinx python3-myst-parser furo libjs-mathjax chromium"
 
+# an optimized BLAS: Debian's default libblas.so.3 is netlib's reference BLAS, on which
+# MUMPS's factorizations (direct solves, BDDC's set-up) run 4-8 times slower
+# (docs/performance.md, "BDDC's set-up, and the BLAS"). The serial OpenBLAS becomes
+# libblas.so.3/liblapack.so.3 by update-alternatives; serial, because gsi's parallelism is
+# MPI ranks and numba threads, and a threaded BLAS under them would oversubscribe the cores.
+BLAS_DEBS="libopenblas0-serial"
+
 DEBS="python3-dolfinx python3-petsc4py python3-mpi4py python3-gmsh python3-meshio \
 python3-numba python3-scipy python3-pytest liggghts python3-matplotlib python3-venv python3-pip \
-openmpi-bin libgl1 libxrender1 libosmesa6 ${DOCS_DEBS} ${EXTRA_DEBS:-}"
+openmpi-bin libgl1 libxrender1 libosmesa6 ${BLAS_DEBS} ${DOCS_DEBS} ${EXTRA_DEBS:-}"
 
 missing=""
 for p in $DEBS; do
