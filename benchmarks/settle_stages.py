@@ -103,7 +103,7 @@ def rep_walls(k, wlev, dt, P, pairs, pl, M, wc, plh, tab, nt, model, pl_acc):
                         if wlev == 1:
                             wln.finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, tab, dt, model, False, pl_acc)
                         nw = uint(0)
-                    nw = wln.gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, nw, row_i, tab, 0.0, 0)
+                    nw = wln.gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, nw, row_i)
             if wlev == 1:
                 wln.finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, tab, dt, model, False, pl_acc)
 

@@ -139,7 +139,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
                     friction_walls(nw, W, wi, wkind, wp, sl, P, wc, dt, model, pl_acc)
                 nw = uint(0)
             nw = gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, nw,
-                              row_i, tab, dt if fric_on else 0.0, model[M_NORMAL])
+                              row_i)
     finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model, heat_on)
     finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, tab, dt, model,
                  heat_on, pl_acc)

@@ -9,15 +9,12 @@ edge or vertex already gave a contact, or when an accepted contact lies at the s
 point (within :data:`SAME_POINT_TOL` R).
 
 Law-independent: the engine calls :func:`select_triangle_contacts` and then
-evaluates its law on the accepted slots.  A candidate without an accepted contact
-restarts its spring from zero; with frictional heating the spring's energy first becomes
-heat (:func:`gsi.dem.spring_heat.book_ended_triangle`).
+evaluates its law on the accepted slots.
 """
 import numpy as np
 from gsi.jit import njit
 from gsi.dem.geometry import closest_point_triangle, FACE, VA, VB, VC, EAB, EBC
 from gsi.dem.state import MAX_WALL_SLOTS
-from gsi.dem.spring_heat import book_ended_triangle
 
 #: two contact points closer than this fraction of the radius are the same contact
 SAME_POINT_TOL = 1e-9
@@ -67,15 +64,12 @@ def _duplicate(i, ns, kind, fid, wall, qx, qy, qz, tol2, M, wc):
 
 
 @njit
-def select_triangle_contacts(i, xi0, xi1, xi2, ri, pairs, M, wc, P, tab, row_i, heat_dt,
-                             normal):
+def select_triangle_contacts(i, xi0, xi1, xi2, ri, pairs, M, wc):
     """Fill the wall-contact slots of particle i (centre xi, radius ri) from its
     triangle candidates ``pairs.tri[pairs.tri_start[i]:pairs.tri_start[i + 1]]``:
     triangle, feature, candidate row, barycentric weights and closest point of each
     accepted contact.  Springs of candidates without an accepted contact restart from
-    zero; with ``heat_dt`` > 0 (frictional heating: the step dt) their energy heats
-    particle i first (:func:`gsi.dem.spring_heat.book_ended_triangle`, material row
-    ``row_i`` of ``tab``, normal law ``normal``).  Returns the number of slots used (more than :data:`MAX_WALL_SLOTS` raise
+    zero.  Returns the number of slots used (more than :data:`MAX_WALL_SLOTS` raise
     ``wc.overflow``)."""
     ns = np.int64(0)       # not a literal 0 (gsi.jit: literals)
     c0 = pairs.tri_start[i]
@@ -137,8 +131,6 @@ def select_triangle_contacts(i, xi0, xi1, xi2, ri, pairs, M, wc, P, tab, row_i, 
             if wc.cand[i, s] == k:
                 used = True
         if not used:
-            if heat_dt > 0.0:
-                book_ended_triangle(i, k, P, pairs, M, tab, row_i, heat_dt, normal)
             pairs.tri_hist[k, 0] = 0.0
             pairs.tri_hist[k, 1] = 0.0
             pairs.tri_hist[k, 2] = 0.0

@@ -10,26 +10,15 @@ tests as :func:`gsi.dem.pair_lanes.gather_pairs` and
 :func:`gsi.dem.wall_lanes.gather_walls`), the spring's energy 1/2 k_t |xi|^2 at the last
 step's overlap (rebuilt one drift back, x - v dt, as in
 :mod:`gsi.dem.contact.dissipation`) goes into heat, half into each body (a plane's half
-into its ``friction_heat``).
-
-A mesh-triangle contact ends inside the triangle selection
-(:func:`gsi.dem.mesh_dedup.select_triangle_contacts`: the triangle no longer touches, or
-a neighbouring triangle of the same surface takes the contact over, as when a sphere
-slides across an edge); the selection calls :func:`book_ended_triangle` before it
-restarts the spring.  Its overlap one drift back is that of the triangle's closest point
-to x - v dt, the vertices also one drift back (X - V dt): exact to round-off for a
-standing or translating wall, first order in dt for a rotating one or one whose vertices
-are set between steps (a coupled structure).  All of its energy heats the particle: the
-wall's half has no slot to go through (the slots are this step's contacts, and the
-particle's selection runs in parallel with the others', so it cannot add to the wall's
-accumulators).
+into its ``friction_heat``).  Mesh-triangle contacts are not covered: their end is
+decided inside the triangle selection (:mod:`gsi.dem.mesh_dedup`) and their spring's
+energy then leaves the book (docs/design.md, "Energy audit").
 """
 import math
 
 from gsi.jit import njit
 from gsi.dem.contact.model import NORMAL, K_T_OVER_K_N
 from gsi.dem.contact_geometry import spheres_touch, plane_distance
-from gsi.dem.geometry import closest_point_triangle
 from gsi.dem.materials import P_G, P_KN
 
 #: the index of the Hertz law in the normal registry
@@ -105,33 +94,3 @@ def book_ended_springs(sl, P, pairs, pl, wc, plh, tab, nt, dt, normal, pl_acc):
             P.q[i] += E * half_rate
             P.heat_friction[i] += 0.5 * E
             pl_acc[sl, p, 7] += E * half_rate
-
-
-@njit
-def book_ended_triangle(i, k, P, pairs, M, tab, row_i, dt, normal):
-    """The spring ``pairs.tri_hist[k]`` of particle i's triangle candidate k, whose
-    contact ended at this step, into the particle's heat (module docstring):
-    ``P.q[i]`` += E/dt, ``P.heat_friction[i]`` += E with E = 1/2 k_t |xi|^2 at the last
-    step's overlap.  A zero spring (no contact at the last step) books nothing."""
-    h = pairs.tri_hist[k]
-    if h[0] == 0.0 and h[1] == 0.0 and h[2] == 0.0:
-        return
-    t = pairs.tri[k]
-    a = M.tri[t, 0]
-    b = M.tri[t, 1]
-    c = M.tri[t, 2]
-    X = M.x
-    V = M.v
-    px = P.x[i, 0] - P.v[i, 0] * dt
-    py = P.x[i, 1] - P.v[i, 1] * dt
-    pz = P.x[i, 2] - P.v[i, 2] * dt
-    qx, qy, qz, _, _, _, _ = closest_point_triangle(
-        px, py, pz, X[a, 0] - V[a, 0] * dt, X[a, 1] - V[a, 1] * dt, X[a, 2] - V[a, 2] * dt,
-        X[b, 0] - V[b, 0] * dt, X[b, 1] - V[b, 1] * dt, X[b, 2] - V[b, 2] * dt,
-        X[c, 0] - V[c, 0] * dt, X[c, 1] - V[c, 1] * dt, X[c, 2] - V[c, 2] * dt)
-    ri = P.radius[i]
-    delta = ri - math.sqrt((qx - px) ** 2 + (qy - py) ** 2 + (qz - pz) ** 2)
-    E = spring_energy(normal, tab, row_i + M.wall_type[M.tri_wall[t]], ri, delta,
-                      h[0], h[1], h[2])
-    P.q[i] += E / dt
-    P.heat_friction[i] += E

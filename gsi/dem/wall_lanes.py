@@ -56,8 +56,7 @@ def wall_lane(W, n, i, P, nx, ny, nz, lever, delta, wvx, wvy, wvz, dtemp, hx, hy
 
 
 @njit(_nrt=False)
-def gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, n, row_i, tab,
-                 heat_dt, normal):
+def gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, n, row_i):
     """The plane and triangle contacts of particle i into the wall buffer from lane ``n``.
 
     Planes: overlap delta = R - (x - p).N, contact normal -N, lever R - delta, wall
@@ -65,10 +64,7 @@ def gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, n, row
     the last neighbour build) are looked at; a contact that ends restarts its spring
     (``plh[i * npl + p]``).  Triangles: the closest points accepted by
     :func:`gsi.dem.mesh_dedup.select_triangle_contacts`; velocity and temperature at the
-    point are the barycentric means of the vertex values; with frictional heating
-    (``heat_dt`` = dt, else 0) the spring of an ended triangle contact heats the particle
-    (``tab``, ``normal``: :func:`gsi.dem.spring_heat.book_ended_triangle`).  Returns the
-    next free lane."""
+    point are the barycentric means of the vertex values.  Returns the next free lane."""
     ri = P.radius[i]
     Ti = P.T[i]
     xi0 = P.x[i, 0]
@@ -108,8 +104,7 @@ def gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, n, row
             n += uint(1)
         wc.plane_mask[i] = pmask
     if pairs.tri_start[i + 1] > pairs.tri_start[i] or wc.count[i] > 0:
-        ns = select_triangle_contacts(i, xi0, xi1, xi2, ri, pairs, M, wc, P, tab, row_i,
-                                      heat_dt, normal)
+        ns = select_triangle_contacts(i, xi0, xi1, xi2, ri, pairs, M, wc)
         wc.count[i] = ns
         mv = M.v
         for s in range(ns):

@@ -8,7 +8,12 @@ another run's bit for bit or to round-off (no ensemble needed); the hopper outfl
 dense flow, is judged on an ensemble.
 
 - A triangle contact that ends (the sphere leaves the mesh, or slides onto the next
-  triangle of the same surface): its tangential spring's energy becomes heat.  A bounce
+  triangle of the same surface): its tangential spring's energy should become heat.  NOT
+  BOOKED today: the first implementation (in the triangle selection, which then took the
+  particle state, material table and normal law) slowed the engine by 40-45 % on small
+  plane-only cases (thesis case 3: 22.9 -> 32.5 s, even with the booking call removed:
+  the longer signatures alone), so it was taken out; these two tests are strict xfails
+  that measure the gap and will pass (and so fail as XPASS) once it is booked again.  A bounce
   off a flat two-triangle mesh is the same contact as a bounce off a plane, whose
   spring's end is already booked: the drifts must agree to round-off (before the
   booking they differed by exactly the spring's energy at the contact's last step:
@@ -56,6 +61,8 @@ def sphere(wall, contact, *, dt, x, v, mu=0.5, domain=0.01):
     return sim
 
 
+@pytest.mark.xfail(strict=True, reason="the ended triangle spring's energy is not booked "
+                   "(docs/design.md, Energy audit: what is not covered)")
 @pytest.mark.parametrize("contact", ["linear", "hertz"])
 def test_a_triangle_contact_that_ends_books_its_spring(contact, record_validation):
     """An oblique bounce (v = (0.2, 0.1, -0.3) m/s) off a flat mesh and off a plane:
@@ -87,6 +94,8 @@ def test_a_triangle_contact_that_ends_books_its_spring(contact, record_validatio
     assert diff <= 1e-12 * in_play
 
 
+@pytest.mark.xfail(strict=True, reason="the ended triangle spring's energy is not booked "
+                   "(docs/design.md, Energy audit: what is not covered)")
 @pytest.mark.parametrize("contact", ["linear", "hertz"])
 def test_sliding_across_triangle_edges_drift_falls_with_dt(contact, record_validation):
     """A sphere sliding (v0 = (0.3, 0.1, 0) m/s, 15 ms, still sliding at the end) across
@@ -199,16 +208,19 @@ def hopper(realisation, dt):
     """54 spheres dropped into a wedge hopper (two 45 degree mesh faces, 8 mm deep
     between two planes, a 5 mm outlet) with frictional heating; they flow out and fall
     out of the domain 8 mm below the outlet.  A ``realisation`` > 0 moves each sphere
-    by up to 0.1 nm."""
+    by up to 0.1 nm.  The mesh faces are frictionless (``mu`` = 0 between the spheres
+    and their material ``w``): the spring of a triangle contact that ends is not booked
+    (the xfails above), and the faces' springs would put that gap into the drift (with
+    mu = 0.5 on the faces too: up to 1.26e-3 of the energy in play at dt = 5e-6 s)."""
     m = Material(E=5e6, nu=0.3, rho=2500.0, e=0.5, mu=0.5, cp=1.0)
     W, H, gap = 8 * R, 10 * R, 5.0 * R
-    sim = Simulation({"g": m}, contact="hertz", gravity=(0, 0, -9.81), dt=dt, skin=0.4 * R,
-                     domain=((-12 * R, -R, -8 * R), (12 * R, W + R, 30 * R)),
-                     frictional_heating=True)
+    sim = Simulation({"g": m, "w": m}, contact="hertz", gravity=(0, 0, -9.81), dt=dt,
+                     skin=0.4 * R, domain=((-12 * R, -R, -8 * R), (12 * R, W + R, 30 * R)),
+                     frictional_heating=True, pair_overrides={("g", "w"): {"mu": 0.0}})
     V = [(s * gap / 2 + s * a * H, y, a * H) for s in (-1, 1)
          for a, y in ((0, 0), (1, 0), (1, W), (0, W))]
     sim.add_mesh_wall(np.array(V, float), np.array([[0, 1, 2], [0, 2, 3], [4, 6, 5],
-                                                   [4, 7, 6]]), material="g")
+                                                   [4, 7, 6]]), material="w")
     sim.add_plane((0, 0, 0), (0, 1, 0), material="g")
     sim.add_plane((0, W, 0), (0, -1, 0), material="g")
     X = np.array(np.meshgrid((np.arange(6) - 2.5) * 2.3 * R, (np.arange(3) + 0.5) * 2.6 * R,
@@ -224,9 +236,10 @@ def test_hopper_outflow_drift_is_time_integration(record_validation):
     """The hopper (:func:`hopper`) for 0.15 s, an ensemble of three realisations 0.1 nm
     apart: more than half the spheres leave, taking out several times the energy in
     play; the drift left is time integration, below 1e-3 of the energy in play in each
-    member, the bound of the closed shaken box (measured at dt = 1e-5 s: -7.1e-4 to
-    -7.5e-4; at 5e-6 s: -1.7e-4; before the outflow was booked the drift was minus the
-    energy lost, -3.9e-4 J, 6 times the energy in play)."""
+    member, the bound of the closed shaken box (measured with frictionless faces at
+    5e-6 s: -1.84e-4 to -1.90e-4, 31-32 spheres lost, 5.5-5.8 times the energy in play;
+    before the outflow was booked the drift was minus the energy lost, 6 times the
+    energy in play)."""
     out = []
     for r in range(3):
         sim = hopper(r, 5e-6)
