@@ -182,9 +182,33 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict,
                pc=p.linear_solver.ksp.getPC().getType(), dofs=p.n_dofs, setup_s=t_setup, first_s=times[0],
                step_s=float(np.mean(times[1:])), its_first=its[0],
                its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
-               surface_vertices=s.n_vertices, umax=p.max_displacement())
+               surface_vertices=s.n_vertices, umax=p.max_displacement(),
+               **mumps_statistics(p.linear_solver.ksp.getPC()))
     p.linear_solver.destroy()
     return out
+
+
+def _mumps_count(v: float) -> float:
+    """A MUMPS entry count: a negative INFOG value is minus millions."""
+    return -v * 1e6 if v < 0 else float(v)
+
+
+def mumps_statistics(pc) -> dict:
+    """MUMPS's own load-independent figures when ``pc`` is a MUMPS factorization (MUMPS
+    5.5 users' guide): full-rank flops RINFOG(3) and those spent with block low-rank
+    compression RINFOG(14) (Gflop), the factor's entries full rank INFOG(29) and after
+    compression INFOG(35), the memory MUMPS used in the factorization summed over the
+    ranks INFOG(22) (MB), its error code INFOG(1); {} for any other preconditioner."""
+    try:
+        if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
+            return {}
+        F = pc.getFactorMatrix()
+        return dict(gflop=F.getMumpsRinfog(3) / 1e9, blr_gflop=F.getMumpsRinfog(14) / 1e9,
+                    factor_entries=_mumps_count(F.getMumpsInfog(29)),
+                    blr_entries=_mumps_count(F.getMumpsInfog(35)),
+                    mumps_mb=F.getMumpsInfog(22), mumps_infog1=F.getMumpsInfog(1))
+    except Exception:          # noqa: BLE001 -- statistics only: a PETSc without them
+        return {}
 
 
 def _timed(comm, setup, load, advance, n_steps):
@@ -313,8 +337,12 @@ def main() -> None:
                   f"step={r['step_s']:.3f}s its={r['its_first']}/{r['its_step']:.0f} "
                   f"peak={r['peak_gb']:.2f}GB (rank max {r['rank_gb']:.2f}, at start "
                   f"{r['base_gb']:.2f}) "
-                  f"surface_vertices={r['surface_vertices']} load={load_average():.1f}",
-                  flush=True)
+                  f"surface_vertices={r['surface_vertices']} "
+                  + (f"gflop={r['gflop']:.1f} blr_gflop={r['blr_gflop']:.1f} "
+                     f"factor_entries={r['factor_entries']:.4g} "
+                     f"blr_entries={r['blr_entries']:.4g} mumps_mb={r['mumps_mb']} "
+                     f"infog1={r['mumps_infog1']} " if "gflop" in r else "")
+                  + f"load={load_average():.1f}", flush=True)
 
     for target in targets:
         if {"static", "dynamic"} & set(problems):

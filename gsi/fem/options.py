@@ -11,8 +11,8 @@ from gsi.errors import GsiInputError
 
 __all__ = ["SOLVERS", "DIRECT_FACTORIZATION", "DIRECT_MUMPS_WORKSPACE", "ITERATIVE_RTOL",
            "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER", "ITERATIVE_DEFAULTS",
-           "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "choose_solver", "direct_workspace",
-           "iterative_defaults", "petsc_option_strings"]
+           "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "BLR_EPSILON", "choose_solver",
+           "direct_workspace", "iterative_defaults", "petsc_option_strings"]
 
 #: ``direct``: the factor in memory; ``out_of_core``: a MUMPS Cholesky factor written to
 #: disk (any number of ranks); ``iterative``: CG + algebraic multigrid; ``auto``: by size
@@ -90,6 +90,27 @@ _GAMG = {"pc_type": "gamg", "pc_gamg_coarse_eq_limit": "1000",
          "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
          "mg_levels_esteig_ksp_type": "cg"}
 
+#: ``petsc = { pc_type = "cholesky" }`` with ``solver = "iterative"`` (issue 33): CG
+#: preconditioned by an approximate Cholesky factor, MUMPS's block low-rank (BLR)
+#: factorization (Amestoy et al. 2015, "Improving multifrontal methods by means of block
+#: low-rank representations"; MUMPS >= 5.1, here Debian's 5.5.1): ICNTL(35) = 2 (BLR in
+#: the factorization and the solves, the factor kept compressed), CNTL(7) = BLR_EPSILON
+#: (the compression tolerance: off-diagonal blocks of the fronts kept to this relative
+#: accuracy), METIS ordering, 50 % working space (the Cholesky's, see
+#: DIRECT_MUMPS_WORKSPACE), on any number of ranks. An inexact factor is a
+#: preconditioner, so CG iterates to ``ksp_rtol`` 1e-10 (BDDC's tolerance, and for the
+#: same reason: 1e-12 lies below these systems' round-off floor). PETSc 3.18 exposes
+#: ICNTL(35), ICNTL(36), ICNTL(38) and CNTL(7), not ICNTL(37) (compression of the
+#: contribution blocks, which would cut the active memory): checked with ``-help``.
+#: Measured (benchmarks/fe_scale.py, one-layer P2 silo shell, 2 ranks; docs' performance
+#: page, "Block low-rank Cholesky as the preconditioner"): epsilon 1e-2 breaks CG down
+#: (the factor is no longer positive definite, PETSc reason -8), 1e-3 takes 9-10
+#: iterations, 1e-4 5.
+BLR_EPSILON = 1e-4
+_BLR = {"pc_type": "cholesky", "pc_factor_mat_solver_type": "mumps", "ksp_rtol": "1e-10",
+        "mat_mumps_icntl_7": "5", "mat_mumps_icntl_14": "50", "mat_mumps_icntl_35": "2",
+        "mat_mumps_cntl_7": repr(BLR_EPSILON)}
+
 #: gsi's PETSc defaults of the iterative solvers, by ``<problem>_<pc_type>``
 #: (``petsc_options`` override them; a user's ``pc_type`` selects the entry of that type).
 #: Elasticity with BoomerAMG is its systems form (the matrix's block size 3 gives hypre
@@ -113,7 +134,9 @@ ITERATIVE_DEFAULTS = {
                         "pc_bddc_dirichlet_pc_type": "lu",
                         "pc_bddc_dirichlet_pc_factor_mat_solver_type": "mumps",
                         "pc_bddc_coarse_redundant_pc_factor_mat_solver_type": "petsc"},
+    "elasticity_cholesky": {**_CG, **_BLR},
     "heat_hypre": {**_CG, "pc_type": "hypre", "pc_hypre_type": "boomeramg"},
+    "heat_cholesky": {**_CG, **_BLR},
     "heat_gamg": {**_CG, **_GAMG},
 }
 
