@@ -57,6 +57,16 @@ direct = MUMPS LU; set-up / step wall seconds, CG iterations per step):
 * plate: see docs/performance.md ("Iterative FE solver: crossover and scaling model")
   and the records in benchmarks/results/fe_scale.json.
 
+Block low-rank Cholesky as CG's preconditioner, issue 33's fifth step (2026-12-05,
+2 ranks, load 4-8; gsi's preset ``--petsc '{"pc_type": "cholesky"}'``: MUMPS BLR,
+epsilon 1e-4, CG to 1e-10): every MUMPS record also carries MUMPS's own load-independent
+figures (``gflop``/``blr_gflop``: RINFOG(3)/(14), ``factor_entries``/``blr_entries``:
+INFOG(29)/(35), ``mumps_mb``: INFOG(22)). At 998,280 dofs: 7 iterations per step,
+set-up 146 s, step 19.2 s, 10.6 GB in core; with the compressed factor on disk
+(``"mat_mumps_icntl_22": 1``) 123 s, 15.6 s, 8.2 GB; the compressed factor needs 8 times
+fewer flops than the exact one (468 against 3,735 Gflop) and 2.6 times fewer entries
+(docs/performance.md, "Block low-rank Cholesky as the preconditioner").
+
 So ``auto`` stays direct wherever the factor fits. Earlier figures (2026-12-02, CG +
 GAMG, 2 ranks, load 4-6): the direct dynamic step 60-670 times faster at 1e4-1e5 dofs
 (1e5: 1.4 s against 81 s, 505 GAMG iterations); out of core, 2 ranks: 0.88 s per step at
@@ -73,6 +83,11 @@ Run::
         --steps 1 --static-max-dofs 1.1e4
     mpirun -n 2 python benchmarks/fe_scale.py --solver out_of_core --problems dynamic \
         --min-dofs 1e6 --max-dofs 1e6 --sizes 1 --steps 3
+    mpirun -n 2 python benchmarks/fe_scale.py --solver iterative --problems dynamic \
+        --min-dofs 1e6 --max-dofs 1e6 --sizes 1 --steps 2 \
+        --petsc '{"pc_type": "cholesky", "mat_mumps_icntl_22": 1}'
+    (the same at 1e5 / 2e5 / 4e5 with "mat_mumps_cntl_7": 1e-3, or "mat_mumps_icntl_35": 0
+    for the exact factor)
     python benchmarks/fe_scale.py --structure shell --solver both --min-dofs 1e4 \
         --max-dofs 2e5 --sizes 4 --steps 1 --problems dynamic,heat --direct-max-dofs 2.1e5
     (the same with --structure plate)

@@ -17,7 +17,11 @@ scheme), so the expensive part of a solver is built once and re-used every step:
   PETSc has no hypre) PETSc's GAMG, with the six rigid-body modes as its near-nullspace
   for elasticity (smoothed aggregation, Vanek, Mandel & Brezina 1996). Every solve starts from the
   last solution x_0 (warm start) and stops at ||b - A x|| <= 1e-12 ||b - A x_0||
-  (:data:`gsi.fem.options.ITERATIVE_RTOL`);
+  (:data:`gsi.fem.options.ITERATIVE_RTOL`). Two presets of
+  :data:`gsi.fem.options.ITERATIVE_DEFAULTS` replace the multigrid, each CG to 1e-10:
+  ``{pc_type = "bddc"}`` (elasticity, 2 or more ranks: BDDC, a subdomain per rank) and
+  ``{pc_type = "cholesky"}`` (elasticity and heat, any ranks: MUMPS's block low-rank
+  Cholesky factor, :data:`gsi.fem.options.BLR_EPSILON`);
 * ``auto``: from :data:`gsi.fem.options.AUTO_LARGE_DOFS` global dofs on
   :data:`gsi.fem.options.AUTO_LARGE_SOLVER`
   (elasticity out of core, heat iterative), else direct.
