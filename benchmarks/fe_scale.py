@@ -59,13 +59,15 @@ direct = MUMPS LU; set-up / step wall seconds, CG iterations per step):
 
 Block low-rank Cholesky as CG's preconditioner, issue 33's fifth step (2026-12-05,
 2 ranks, load 4-8; gsi's preset ``--petsc '{"pc_type": "cholesky"}'``: MUMPS BLR,
-epsilon 1e-4, CG to 1e-10): every MUMPS record also carries MUMPS's own load-independent
+epsilon 1e-5, CG to 1e-10): every MUMPS record also carries MUMPS's own load-independent
 figures (``gflop``/``blr_gflop``: RINFOG(3)/(14), ``factor_entries``/``blr_entries``:
-INFOG(29)/(35), ``mumps_mb``: INFOG(22)). At 998,280 dofs: 7 iterations per step,
-set-up 146 s, step 19.2 s, 10.6 GB in core; with the compressed factor on disk
-(``"mat_mumps_icntl_22": 1``) 123 s, 15.6 s, 8.2 GB; the compressed factor needs 8 times
-fewer flops than the exact one (468 against 3,735 Gflop) and 2.6 times fewer entries
-(docs/performance.md, "Block low-rank Cholesky as the preconditioner").
+INFOG(29)/(35), ``mumps_mb``: INFOG(22)). At 998,280 dofs with the compressed factor on
+disk (``"mat_mumps_icntl_22": 1``): 4 iterations per step (4 at 1e5), set-up 138 s, step
+10.5 s, 9.0 GB; with epsilon 1e-4 7 iterations (5 at 1e5), 123 s, 15.6 s, 8.2 GB, and in
+core 146 s, 19.2 s, 10.6 GB; the exact factor on disk (``out_of_core``, OpenBLAS) 253.5 s,
+5.50 s, 6.82 GB. The compressed factor needs 7-8 times fewer flops than the exact one
+(510 / 468 against 3,735 Gflop) and 2.4-2.6 times fewer entries (docs/performance.md,
+"Block low-rank Cholesky as the preconditioner").
 
 So ``auto`` stays direct wherever the factor fits. Earlier figures (2026-12-02, CG +
 GAMG, 2 ranks, load 4-6): the direct dynamic step 60-670 times faster at 1e4-1e5 dofs

@@ -73,9 +73,9 @@ ITERATIVE_ATOL = 1e-16
 #: direct step is still 59-223 times faster and the iterative path is cheaper in total only
 #: for runs shorter than 0.2-3.6 steps, so the threshold stays. The block low-rank
 #: Cholesky preset (BLR_EPSILON below) sets up faster than the exact factor from 2e5 dofs
-#: on (1e6 dofs, 2 ranks, both factors on disk: 123 s against 253.5 s) but its step is
-#: slower at every size (15.6 s against 5.50 s there), so it is cheaper in total only for
-#: runs shorter than 13 steps at 1e6 dofs (27 at 4e5): ``auto`` keeps the exact factor.
+#: on (1e6 dofs, 2 ranks, both factors on disk: 138 s against 253.5 s) but its step is
+#: slower at every size (10.5 s against 5.50 s there), so it is cheaper in total only for
+#: runs shorter than 23 steps at 1e6 dofs: ``auto`` keeps the exact factor.
 AUTO_LARGE_DOFS = {"elasticity": 200_000, "heat": 200_000}
 AUTO_LARGE_SOLVER = {"elasticity": "out_of_core", "heat": "iterative"}
 
@@ -109,14 +109,16 @@ _GAMG = {"pc_type": "gamg", "pc_gamg_coarse_eq_limit": "1000",
 #: Measured (benchmarks/fe_scale.py, one-layer P2 silo shell, 2 ranks; docs' performance
 #: page, "Block low-rank Cholesky as the preconditioner"): epsilon 1e-2 breaks CG down
 #: (the factor is no longer positive definite, PETSc reason -8), 1e-3 takes 10-11
-#: iterations per step from 1e5 to 4e5 dofs, 1e-4 5 / 5 / 6 / 7 at 1e5 / 2e5 / 4e5 / 1e6.
-#: At 998,280 dofs (2 ranks) the compressed factor costs 468 Gflop and 4.0e8 entries
-#: against the exact factor's 3,735 Gflop and 1.03e9: set-up 146 s, step 19.2 s,
-#: 10.6 GB (load 6-8). ``mat_mumps_icntl_22 = 1`` puts the compressed factor on disk
-#: (123 s, 15.6 s, 8.2 GB there); the files then go to $MUMPS_OOC_TMPDIR (MUMPS's own
-#: default directory without it) and are removed when the solver is destroyed, not after
-#: a killed run (``out_of_core`` keeps a directory of its own for that).
-BLR_EPSILON = 1e-4
+#: iterations per step from 1e5 to 4e5 dofs, 1e-4 5 / 5 / 6 / 7 at 1e5 / 2e5 / 4e5 / 1e6
+#: (growth 1.4, above issue 33's 1.3), 1e-5 4 at 1e5 and 4 at 998,280 dofs (growth 1.0),
+#: hence 1e-5. At 998,280 dofs with the factor on disk, 1e-5 against 1e-4: set-up 138 s
+#: against 123 s, step 10.5 s against 15.6 s, 9.0 against 8.2 GB (load 5-7); the
+#: compressed factor costs 510 Gflop and 4.3e8 entries against the exact factor's
+#: 3,735 Gflop and 1.03e9. ``mat_mumps_icntl_22 = 1`` puts the compressed factor on disk;
+#: the files then go to $MUMPS_OOC_TMPDIR (MUMPS's own default directory without it) and
+#: are removed when the solver is destroyed, not after a killed run (``out_of_core``
+#: keeps a directory of its own for that).
+BLR_EPSILON = 1e-5
 _BLR = {"pc_type": "cholesky", "pc_factor_mat_solver_type": "mumps", "ksp_rtol": "1e-10",
         "mat_mumps_icntl_7": "5", "mat_mumps_icntl_14": "50", "mat_mumps_icntl_35": "2",
         "mat_mumps_cntl_7": repr(BLR_EPSILON)}
