@@ -57,6 +57,18 @@ direct = MUMPS LU; set-up / step wall seconds, CG iterations per step):
 * plate: see docs/performance.md ("Iterative FE solver: crossover and scaling model")
   and the records in benchmarks/results/fe_scale.json.
 
+Block low-rank Cholesky as CG's preconditioner, issue 33's fifth step (2026-12-05,
+2 ranks, load 4-8; gsi's preset ``--petsc '{"pc_type": "cholesky"}'``: MUMPS BLR,
+epsilon 1e-5, CG to 1e-10): every MUMPS record also carries MUMPS's own load-independent
+figures (``gflop``/``blr_gflop``: RINFOG(3)/(14), ``factor_entries``/``blr_entries``:
+INFOG(29)/(35), ``mumps_mb``: INFOG(22)). At 998,280 dofs with the compressed factor on
+disk (``"mat_mumps_icntl_22": 1``): 4 iterations per step (4 at 1e5), set-up 138 s, step
+10.5 s, 9.0 GB; with epsilon 1e-4 7 iterations (5 at 1e5), 123 s, 15.6 s, 8.2 GB, and in
+core 146 s, 19.2 s, 10.6 GB; the exact factor on disk (``out_of_core``, OpenBLAS) 253.5 s,
+5.50 s, 6.82 GB. The compressed factor needs 7-8 times fewer flops than the exact one
+(510 / 468 against 3,735 Gflop) and 2.4-2.6 times fewer entries (docs/performance.md,
+"Block low-rank Cholesky as the preconditioner").
+
 So ``auto`` stays direct wherever the factor fits. Earlier figures (2026-12-02, CG +
 GAMG, 2 ranks, load 4-6): the direct dynamic step 60-670 times faster at 1e4-1e5 dofs
 (1e5: 1.4 s against 81 s, 505 GAMG iterations); out of core, 2 ranks: 0.88 s per step at
@@ -73,6 +85,11 @@ Run::
         --steps 1 --static-max-dofs 1.1e4
     mpirun -n 2 python benchmarks/fe_scale.py --solver out_of_core --problems dynamic \
         --min-dofs 1e6 --max-dofs 1e6 --sizes 1 --steps 3
+    mpirun -n 2 python benchmarks/fe_scale.py --solver iterative --problems dynamic \
+        --min-dofs 1e6 --max-dofs 1e6 --sizes 1 --steps 2 \
+        --petsc '{"pc_type": "cholesky", "mat_mumps_icntl_22": 1}'
+    (the same at 1e5 / 2e5 / 4e5 with "mat_mumps_cntl_7": 1e-3, or "mat_mumps_icntl_35": 0
+    for the exact factor)
     python benchmarks/fe_scale.py --structure shell --solver both --min-dofs 1e4 \
         --max-dofs 2e5 --sizes 4 --steps 1 --problems dynamic,heat --direct-max-dofs 2.1e5
     (the same with --structure plate)
@@ -182,9 +199,33 @@ def run_elasticity(sm, scheme: str, solver: str, n_steps: int, petsc: dict,
                pc=p.linear_solver.ksp.getPC().getType(), dofs=p.n_dofs, setup_s=t_setup, first_s=times[0],
                step_s=float(np.mean(times[1:])), its_first=its[0],
                its_step=float(np.mean(its[1:])), peak_gb=peak, rank_gb=rank_peak, base_gb=base,
-               surface_vertices=s.n_vertices, umax=p.max_displacement())
+               surface_vertices=s.n_vertices, umax=p.max_displacement(),
+               **mumps_statistics(p.linear_solver.ksp.getPC()))
     p.linear_solver.destroy()
     return out
+
+
+def _mumps_count(v: float) -> float:
+    """A MUMPS entry count: a negative INFOG value is minus millions."""
+    return -v * 1e6 if v < 0 else float(v)
+
+
+def mumps_statistics(pc) -> dict:
+    """MUMPS's own load-independent figures when ``pc`` is a MUMPS factorization (MUMPS
+    5.5 users' guide): full-rank flops RINFOG(3) and those spent with block low-rank
+    compression RINFOG(14) (Gflop), the factor's entries full rank INFOG(29) and after
+    compression INFOG(35), the memory MUMPS used in the factorization summed over the
+    ranks INFOG(22) (MB), its error code INFOG(1); {} for any other preconditioner."""
+    try:
+        if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
+            return {}
+        F = pc.getFactorMatrix()
+        return dict(gflop=F.getMumpsRinfog(3) / 1e9, blr_gflop=F.getMumpsRinfog(14) / 1e9,
+                    factor_entries=_mumps_count(F.getMumpsInfog(29)),
+                    blr_entries=_mumps_count(F.getMumpsInfog(35)),
+                    mumps_mb=F.getMumpsInfog(22), mumps_infog1=F.getMumpsInfog(1))
+    except Exception:          # noqa: BLE001 -- statistics only: a PETSc without them
+        return {}
 
 
 def _timed(comm, setup, load, advance, n_steps):
@@ -313,8 +354,12 @@ def main() -> None:
                   f"step={r['step_s']:.3f}s its={r['its_first']}/{r['its_step']:.0f} "
                   f"peak={r['peak_gb']:.2f}GB (rank max {r['rank_gb']:.2f}, at start "
                   f"{r['base_gb']:.2f}) "
-                  f"surface_vertices={r['surface_vertices']} load={load_average():.1f}",
-                  flush=True)
+                  f"surface_vertices={r['surface_vertices']} "
+                  + (f"gflop={r['gflop']:.1f} blr_gflop={r['blr_gflop']:.1f} "
+                     f"factor_entries={r['factor_entries']:.4g} "
+                     f"blr_entries={r['blr_entries']:.4g} mumps_mb={r['mumps_mb']} "
+                     f"infog1={r['mumps_infog1']} " if "gflop" in r else "")
+                  + f"load={load_average():.1f}", flush=True)
 
     for target in targets:
         if {"static", "dynamic"} & set(problems):

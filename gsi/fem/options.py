@@ -11,8 +11,8 @@ from gsi.errors import GsiInputError
 
 __all__ = ["SOLVERS", "DIRECT_FACTORIZATION", "DIRECT_MUMPS_WORKSPACE", "ITERATIVE_RTOL",
            "ITERATIVE_ATOL", "AUTO_LARGE_DOFS", "AUTO_LARGE_SOLVER", "ITERATIVE_DEFAULTS",
-           "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "choose_solver", "direct_workspace",
-           "iterative_defaults", "petsc_option_strings"]
+           "ITERATIVE_PC", "OUT_OF_CORE_DEFAULTS", "BLR_EPSILON", "choose_solver",
+           "direct_workspace", "iterative_defaults", "petsc_option_strings"]
 
 #: ``direct``: the factor in memory; ``out_of_core``: a MUMPS Cholesky factor written to
 #: disk (any number of ranks); ``iterative``: CG + algebraic multigrid; ``auto``: by size
@@ -71,7 +71,11 @@ ITERATIVE_ATOL = 1e-16
 #: BoomerAMG (9-13 iterations at every size). Re-measured with CG + BoomerAMG for
 #: elasticity (1 rank, 1e4-2e5 dofs, shell and clamped plate; docs' performance page): the
 #: direct step is still 59-223 times faster and the iterative path is cheaper in total only
-#: for runs shorter than 0.2-3.6 steps, so the threshold stays.
+#: for runs shorter than 0.2-3.6 steps, so the threshold stays. The block low-rank
+#: Cholesky preset (BLR_EPSILON below) sets up faster than the exact factor from 2e5 dofs
+#: on (1e6 dofs, 2 ranks, both factors on disk: 138 s against 253.5 s) but its step is
+#: slower at every size (10.5 s against 5.50 s there), so it is cheaper in total only for
+#: runs shorter than 23 steps at 1e6 dofs: ``auto`` keeps the exact factor.
 AUTO_LARGE_DOFS = {"elasticity": 200_000, "heat": 200_000}
 AUTO_LARGE_SOLVER = {"elasticity": "out_of_core", "heat": "iterative"}
 
@@ -89,6 +93,35 @@ _CG = {"ksp_type": "cg", "ksp_converged_use_initial_residual_norm": ""}
 _GAMG = {"pc_type": "gamg", "pc_gamg_coarse_eq_limit": "1000",
          "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
          "mg_levels_esteig_ksp_type": "cg"}
+
+#: ``petsc = { pc_type = "cholesky" }`` with ``solver = "iterative"`` (issue 33): CG
+#: preconditioned by an approximate Cholesky factor, MUMPS's block low-rank (BLR)
+#: factorization (Amestoy et al. 2015, "Improving multifrontal methods by means of block
+#: low-rank representations"; MUMPS >= 5.1, here Debian's 5.5.1): ICNTL(35) = 2 (BLR in
+#: the factorization and the solves, the factor kept compressed), CNTL(7) = BLR_EPSILON
+#: (the compression tolerance: off-diagonal blocks of the fronts kept to this relative
+#: accuracy), METIS ordering, 50 % working space (the Cholesky's, see
+#: DIRECT_MUMPS_WORKSPACE), on any number of ranks. An inexact factor is a
+#: preconditioner, so CG iterates to ``ksp_rtol`` 1e-10 (BDDC's tolerance, and for the
+#: same reason: 1e-12 lies below these systems' round-off floor). PETSc 3.18 exposes
+#: ICNTL(35), ICNTL(36), ICNTL(38) and CNTL(7), not ICNTL(37) (compression of the
+#: contribution blocks, which would cut the active memory): checked with ``-help``.
+#: Measured (benchmarks/fe_scale.py, one-layer P2 silo shell, 2 ranks; docs' performance
+#: page, "Block low-rank Cholesky as the preconditioner"): epsilon 1e-2 breaks CG down
+#: (the factor is no longer positive definite, PETSc reason -8), 1e-3 takes 10-11
+#: iterations per step from 1e5 to 4e5 dofs, 1e-4 5 / 5 / 6 / 7 at 1e5 / 2e5 / 4e5 / 1e6
+#: (growth 1.4, above issue 33's 1.3), 1e-5 4 at 1e5 and 4 at 998,280 dofs (growth 1.0),
+#: hence 1e-5. At 998,280 dofs with the factor on disk, 1e-5 against 1e-4: set-up 138 s
+#: against 123 s, step 10.5 s against 15.6 s, 9.0 against 8.2 GB (load 5-7); the
+#: compressed factor costs 510 Gflop and 4.3e8 entries against the exact factor's
+#: 3,735 Gflop and 1.03e9. ``mat_mumps_icntl_22 = 1`` puts the compressed factor on disk;
+#: the files then go to $MUMPS_OOC_TMPDIR (MUMPS's own default directory without it) and
+#: are removed when the solver is destroyed, not after a killed run (``out_of_core``
+#: keeps a directory of its own for that).
+BLR_EPSILON = 1e-5
+_BLR = {"pc_type": "cholesky", "pc_factor_mat_solver_type": "mumps", "ksp_rtol": "1e-10",
+        "mat_mumps_icntl_7": "5", "mat_mumps_icntl_14": "50", "mat_mumps_icntl_35": "2",
+        "mat_mumps_cntl_7": repr(BLR_EPSILON)}
 
 #: gsi's PETSc defaults of the iterative solvers, by ``<problem>_<pc_type>``
 #: (``petsc_options`` override them; a user's ``pc_type`` selects the entry of that type).
@@ -113,7 +146,9 @@ ITERATIVE_DEFAULTS = {
                         "pc_bddc_dirichlet_pc_type": "lu",
                         "pc_bddc_dirichlet_pc_factor_mat_solver_type": "mumps",
                         "pc_bddc_coarse_redundant_pc_factor_mat_solver_type": "petsc"},
+    "elasticity_cholesky": {**_CG, **_BLR},
     "heat_hypre": {**_CG, "pc_type": "hypre", "pc_hypre_type": "boomeramg"},
+    "heat_cholesky": {**_CG, **_BLR},
     "heat_gamg": {**_CG, **_GAMG},
 }
 

@@ -84,6 +84,28 @@ def test_iterative_matches_direct_on_thin_walls_on_2_ranks(tmp_path):
             assert err <= TOL, f"{name} bddc {key}: {err:.2e}"
 
 
+@pytest.mark.parametrize("ranks", [1, 2])
+def test_blr_cholesky_preset_matches_direct(tmp_path, ranks):
+    """``solver = "iterative"`` with ``petsc = { pc_type = "cholesky" }`` (elasticity and
+    heat): CG preconditioned by MUMPS's block low-rank Cholesky at epsilon 1e-5
+    (gsi.fem.options.BLR_EPSILON), to its 1e-10, on the coarse shell and plate on 1 and 2
+    ranks: static, generalized-alpha and heat against the direct solver to 1e-8 of the
+    largest value, as the other iterative solvers above. These coarse walls' fronts are
+    small, so the factor may be uncompressed and CG then takes one iteration: the test
+    holds the preset's plumbing and tolerance (the compressed factor's iterations are
+    measured by benchmarks/fe_scale.py, docs' performance page)."""
+    r = mpirun.run_json(HERE / "thin_solver_mpi_case.py", ranks, tmp_path / "blr.json",
+                        args=("blr",))
+    assert r["n_ranks"] == ranks
+    for name in ("shell", "plate"):
+        blr = r[name]["blr"]
+        assert blr["kinds"] == ["iterative"] * 3
+        assert blr["pcs"] == ["cg + cholesky"] * 3
+        assert min(min(its) for its in blr["its"]) >= 1
+        for key, err in r[name]["errors"].items():
+            assert err <= TOL, f"{name} blr {key}: {err:.2e}"
+
+
 def test_bddc_keeps_average_acceleration_energy_on_2_ranks(tmp_path):
     """BDDC's CG stops at 1e-10 of the step's initial residual (not gsi's 1e-12): the
     suddenly loaded bar's energy under average acceleration is still conserved to the
