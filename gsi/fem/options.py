@@ -114,10 +114,10 @@ _GAMG = {"pc_type": "gamg", "pc_gamg_coarse_eq_limit": "1000",
 #: hence 1e-5. At 998,280 dofs with the factor on disk, 1e-5 against 1e-4: set-up 138 s
 #: against 123 s, step 10.5 s against 15.6 s, 9.0 against 8.2 GB (load 5-7); the
 #: compressed factor costs 510 Gflop and 4.3e8 entries against the exact factor's
-#: 3,735 Gflop and 1.03e9. ``mat_mumps_icntl_22 = 1`` puts the compressed factor on disk;
-#: the files then go to $MUMPS_OOC_TMPDIR (MUMPS's own default directory without it) and
-#: are removed when the solver is destroyed, not after a killed run (``out_of_core``
-#: keeps a directory of its own for that).
+#: 3,735 Gflop and 1.03e9. ``mat_mumps_icntl_22 = 1`` puts the compressed factor on disk,
+#: in a directory of the solver's own as ``out_of_core``'s (gsi.fem.solvers.FactorFiles):
+#: with the elasticity's K and M assembled after the factorization, 111.7 s set-up, 9.21 s
+#: step, 7.34 GB at 998,280 dofs (2 ranks, load 7-8), within issue 33's targets.
 BLR_EPSILON = 1e-5
 _BLR = {"pc_type": "cholesky", "pc_factor_mat_solver_type": "mumps", "ksp_rtol": "1e-10",
         "mat_mumps_icntl_7": "5", "mat_mumps_icntl_14": "50", "mat_mumps_icntl_35": "2",

@@ -168,6 +168,31 @@ def _alive(pid: int) -> bool:
     return True
 
 
+class FactorFiles:
+    """The directory of one solver's MUMPS out-of-core files (``path``:
+    ``gsi-mumps-<host>-<pid>-*`` under ``$MUMPS_OOC_TMPDIR`` if set, else the system's
+    temporary directory), removed with its ``owner`` (when it is garbage-collected, at the
+    interpreter's exit, or by :meth:`remove`); the directories of killed runs are removed
+    by the next solver that makes one (:func:`_scratch_dir`). MUMPS reads
+    $MUMPS_OOC_TMPDIR when it factorizes: :meth:`factorize` points it at ``path`` for
+    that call and restores the user's value."""
+
+    def __init__(self, owner):
+        self.path = _scratch_dir()
+        self.remove = weakref.finalize(owner, shutil.rmtree, self.path, ignore_errors=True)
+
+    def factorize(self, factorize) -> None:
+        before = os.environ.get("MUMPS_OOC_TMPDIR")
+        os.environ["MUMPS_OOC_TMPDIR"] = self.path
+        try:
+            factorize()
+        finally:
+            if before is None:
+                del os.environ["MUMPS_OOC_TMPDIR"]
+            else:
+                os.environ["MUMPS_OOC_TMPDIR"] = before
+
+
 class OutOfCoreSolver(LinearSolver):
     """Direct solver with its factor on disk: MUMPS Cholesky, factorized once.
 
@@ -193,31 +218,20 @@ class OutOfCoreSolver(LinearSolver):
                  petsc_options=None, options_key: str = "structure.petsc"):
         super().__init__(A, comm, problem=problem, petsc_options=petsc_options,
                          options_key=options_key)
-        self.scratch_dir = _scratch_dir()
-        self._remove_scratch = weakref.finalize(self, shutil.rmtree, self.scratch_dir,
-                                                ignore_errors=True)
+        self.files = FactorFiles(self)
+        self.scratch_dir = self.files.path
         self._configure_scratch(self.ksp)
         self.ksp.getPC().setReusePreconditioner(True)
         self._set_options({k: v for k, v in OUT_OF_CORE_DEFAULTS.items()
                            if k.startswith("mat_mumps")})
 
     def factorize(self) -> None:
-        # MUMPS reads $MUMPS_OOC_TMPDIR when it factorizes: this solver's own directory
-        if self._ready:
-            return
-        before = os.environ.get("MUMPS_OOC_TMPDIR")
-        os.environ["MUMPS_OOC_TMPDIR"] = self.scratch_dir
-        try:
-            super().factorize()
-        finally:
-            if before is None:
-                del os.environ["MUMPS_OOC_TMPDIR"]
-            else:
-                os.environ["MUMPS_OOC_TMPDIR"] = before
+        if not self._ready:
+            self.files.factorize(super().factorize)
 
     def destroy(self) -> None:
         super().destroy()
-        self._remove_scratch()
+        self.files.remove()
 
     def _configure_scratch(self, ksp) -> None:
         ksp.setType(OUT_OF_CORE_DEFAULTS["ksp_type"])
@@ -293,6 +307,17 @@ class IterativeSolver(LinearSolver):
         ksp.setInitialGuessNonzero(True)
         ksp.getPC().setReusePreconditioner(True)
         self._set_options(defaults)
+        # the block low-rank factor on disk (mat_mumps_icntl_22 = 1): its files in a
+        # directory of this solver's own, as out_of_core's
+        on_disk = str(self.user_options.get("mat_mumps_icntl_22", "0")) == "1"
+        self.files = FactorFiles(self) if on_disk and defaults["pc_type"] == "cholesky" else None
+        self.scratch_dir = self.files.path if self.files else None
+
+    def factorize(self) -> None:
+        if self.files is None or self._ready:
+            super().factorize()
+        else:
+            self.files.factorize(super().factorize)
 
     def _configure_scratch(self, ksp) -> None:
         ksp.setType(self.defaults["ksp_type"])
@@ -312,6 +337,7 @@ class IterativeSolver(LinearSolver):
     def destroy(self) -> None:
         super().destroy()
         _ = self.P is not None and self.P.destroy()
+        _ = self.files is not None and self.files.remove()
 
     def _failure(self, reason: int) -> str:
         its = self.ksp.getIterationNumber()

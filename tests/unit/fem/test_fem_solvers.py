@@ -42,9 +42,9 @@ def _static(slab, solver, **kw):
     return p
 
 
-def _dynamic(slab, solver):
+def _dynamic(slab, solver, **kw):
     p = Elasticity(slab, "steel", degree=2, scheme="generalized_alpha", dt=2e-5, rho_inf=0.8,
-                   rayleigh=(5.0, 1e-7), solver=solver)
+                   rayleigh=(5.0, 1e-7), solver=solver, **kw)
     p.clamp("support")
     p.set_traction("contact", [0.0, 0.0, -2.0e4])
     for k in range(4):
@@ -111,6 +111,30 @@ def test_out_of_core_factor_is_on_disk_while_it_lives(slab, tmp_path, monkeypatc
     p.linear_solver.destroy()
     assert not list(tmp_path.iterdir())
     assert os.environ["MUMPS_OOC_TMPDIR"] == str(tmp_path)        # the user's, restored
+
+
+def test_block_low_rank_factor_on_disk_goes_with_its_solver(slab, tmp_path, monkeypatch):
+    """CG with MUMPS's block low-rank Cholesky (``pc_type = "cholesky"``) and its factor
+    on disk (``mat_mumps_icntl_22 = 1``, the memory-lean form of issue 33's 1e6-dof runs):
+    the files in a directory of the solver's own under $MUMPS_OOC_TMPDIR while it lives,
+    gone with it, the user's variable restored; the answer is the direct solver's to CG's
+    1e-10."""
+    monkeypatch.setenv("MUMPS_OOC_TMPDIR", str(tmp_path))
+    d = _dynamic(slab, "direct")
+    i = _dynamic(slab, "iterative", petsc_options={"pc_type": "cholesky",
+                                                    "mat_mumps_icntl_22": 1})
+    for name in ("u", "v", "a"):
+        assert _close(getattr(d, name).x.array, getattr(i, name).x.array), name
+    assert i.linear_solver.describe() == "cg + cholesky" and i.n_factorizations == 1
+    factor = i.linear_solver.ksp.getPC().getFactorMatrix()
+    assert (factor.getMumpsIcntl(22), factor.getMumpsIcntl(35)) == (1, 2)
+    del factor
+    files = list(tmp_path.glob("gsi-mumps-*/mumps_*"))
+    assert files and [f.parent for f in files] == \
+        [pathlib.Path(i.linear_solver.scratch_dir)] * len(files)
+    i.linear_solver.destroy()
+    assert not list(tmp_path.iterdir())
+    assert os.environ["MUMPS_OOC_TMPDIR"] == str(tmp_path)
 
 
 _OOC_SCRIPT = """
