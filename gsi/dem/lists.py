@@ -84,6 +84,13 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
         x[:, axis], 2 * rmax + skin, threads,
         min_per_slab=nbr.MIN_SLAB_PARTICLES if small else 1)
     slab_of, slab_start, slab_list = nbr.slab_sort(n, x, cell_list, axis, s_lo, s_inv_w, nslab)
+    # no particle added or removed since the last build: the rows are those the old lists
+    # were built for, so a new row's old row is its row before the re-ordering (no search
+    # of the ids, 0.85 ms a build of the 5,000-sphere drum)
+    ids = store.particle["id"][:n]
+    same_rows = (ids_at_build is not None and len(ids_at_build) == n
+                 and np.array_equal(ids, ids_at_build))
+    perm = np.arange(n, dtype=np.int64)
     if sort_particles and n:
         # rows into visiting order: row m is the m-th particle the force pass visits
         perm = slab_list
@@ -114,11 +121,10 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     npair = len(nb_j)
     hist = np.zeros((npair, 3))
     pact = np.zeros(npair, np.uint8)
-    # new row -> old row through the ids at the last build
-    ids = store.particle["id"][:n]
+    # new row -> old row (through the ids at the last build if the rows changed)
     built = ids_at_build is not None
     if built and len(ids_at_build):
-        old_of_new = rows_of(ids_at_build, ids)
+        old_of_new = perm if same_rows else rows_of(ids_at_build, ids)
         nbr.carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, old.start, old.j,
                                old.hist, old.active)
     else:
