@@ -12,8 +12,8 @@ gather alone, then with the model and the finish; the integration as
 ``integrate_rows`` in mode 2 (kick, drift, clear, scan).  Each figure is the best of 5
 batches of PASSES passes, the state restored before each.  Note: the stages are called
 from this file's loops, not from the engine's slab task, so LLVM's inlining choices
-may differ from the engine's: here ``gather_walls`` is a call per particle that passes
-every state bundle on the stack (~0.2 us), so "planes: gather" reads 0.6 ms where the
+may differ from the engine's: here ``gather_planes`` is a call per particle that passes
+its state bundles on the stack (~0.2 us), so "planes: gather" reads 0.6 ms where the
 engine's planes take 0.1 ms (``benchmarks/settle_profile.py``); the pair rows summed
 (1.7 ms on 2026-12-05) are below the engine's pair figure (2.2 ms, which also counts the
 forces-only pass's clearing and its slab tasks): read them as shares, not as the
@@ -103,7 +103,10 @@ def rep_walls(k, wlev, dt, P, pairs, pl, M, wc, plh, tab, nt, model, pl_acc):
                         if wlev == 1:
                             wln.finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, tab, dt, model, False, pl_acc)
                         nw = uint(0)
-                    nw = wln.gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, nw, row_i)
+                    if wc.plane_cand[i] != 0:
+                        nw = wln.gather_planes(i, P, pl, wc, plh, W, wi, wkind, wk, wp, wrow, nw, row_i)
+                    if wc.count[i] > 0:
+                        nw = wln.gather_triangles(i, P, pairs, M, wc, W, wi, wkind, wk, wp, wrow, nw, row_i)
             if wlev == 1:
                 wln.finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, tab, dt, model, False, pl_acc)
 
