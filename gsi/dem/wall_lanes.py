@@ -68,8 +68,9 @@ def gather_planes(i, P, pl, wc, plh, W, wi, wkind, wk, wp, wrow, n, row_i):
     reads: small enough for LLVM to inline it into the slab task.  Together, as one
     ``gather_walls`` that took every bundle, it was not inlined: a call per particle near
     a wall with 712 scalar arguments (numba passes each array of a bundle member by
-    member).  The split made the settled ``settle`` bed's step 1.16x faster on one
-    thread (median of 8 paired runs, loaded host, bitwise the same trajectory)."""
+    member).  The split made the settled ``settle`` bed's step 1.18x faster on one
+    thread (median of 16 paired runs, loaded host, bitwise the same trajectory;
+    docs/design.md, "Arguments of the force pass's calls")."""
     ri = P.radius[i]
     Ti = P.T[i]
     xi0 = P.x[i, 0]
