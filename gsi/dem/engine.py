@@ -46,7 +46,8 @@ from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_
                                friction_correction, reduce_scans, verdict)
 from gsi.dem.pair_lanes import gather_pairs, finish_pairs, friction_pairs
 from gsi.dem.spring_heat import book_ended_springs
-from gsi.dem.wall_lanes import gather_walls, finish_walls, friction_walls, plane_count
+from gsi.dem.wall_lanes import (gather_planes, gather_triangles, finish_walls, friction_walls,
+                                plane_count)
 from gsi.dem.state import (Particles, Pairs, Planes, Mesh, WallContacts, as_tuple,
                            MAX_WALL_SLOTS)
 from gsi.dem.wall_kernels import move_walls, plane_sums, mesh_scatter
@@ -130,16 +131,20 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
             nrow += 1
             blane[nrow] = n
             k0 = k1
-        if wc.plane_cand[i] != 0 or pairs.tri_start[i + 1] > pairs.tri_start[i] \
-                or wc.count[i] > 0:
-            if nw + uint(plane_count(wc.plane_cand[i]) + MAX_WALL_SLOTS) > uint(CH):
+        cand = wc.plane_cand[i]
+        tri = pairs.tri_start[i + 1] > pairs.tri_start[i] or wc.count[i] > 0
+        if cand != 0 or tri:
+            if nw + uint(plane_count(cand) + MAX_WALL_SLOTS) > uint(CH):
                 finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh,
                              tab, dt, model, heat_on, pl_acc)
                 if fric_on:
                     friction_walls(nw, W, wi, wkind, wp, sl, P, wc, dt, model, pl_acc)
                 nw = uint(0)
-            nw = gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, nw,
-                              row_i)
+            if cand != 0:
+                nw = gather_planes(i, P, pl, wc, plh, W, wi, wkind, wk, wp, wrow, nw, row_i)
+            if tri:
+                nw = gather_triangles(i, P, pairs, M, wc, W, wi, wkind, wk, wp, wrow, nw,
+                                      row_i)
     finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt, model, heat_on)
     finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh, tab, dt, model,
                  heat_on, pl_acc)

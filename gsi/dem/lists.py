@@ -84,6 +84,13 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
         x[:, axis], 2 * rmax + skin, threads,
         min_per_slab=nbr.MIN_SLAB_PARTICLES if small else 1)
     slab_of, slab_start, slab_list = nbr.slab_sort(n, x, cell_list, axis, s_lo, s_inv_w, nslab)
+    # no particle added or removed since the last build: the rows are those the old lists
+    # were built for, so a new row's old row is its row before the re-ordering (no search
+    # of the ids, 0.85 ms a build of the 5,000-sphere drum)
+    ids = store.particle["id"][:n]
+    same_rows = (ids_at_build is not None and len(ids_at_build) == n
+                 and np.array_equal(ids, ids_at_build))
+    perm = np.arange(n, dtype=np.int64)
     if sort_particles and n:
         # rows into visiting order: row m is the m-th particle the force pass visits
         perm = slab_list
@@ -95,9 +102,12 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
         cell_list = new_of_old[cell_list].astype(cell_list.dtype)
         slab_list = np.arange(n, dtype=slab_list.dtype)
     nb_start = np.zeros(n + 1, np.int64)
-    if threads == 1 or (threads == 2 and n <= SERIAL_PAIRS_MAX_N):
+    serial = threads == 1 or (threads == 2 and n <= SERIAL_PAIRS_MAX_N)
+    # (x, R) in cell order, for the serial pair search and the triangle search (once)
+    xs = nbr.cell_ordered(x, r, cell_list) if serial or len(walls.mesh_state.tri) else None
+    if serial:
         # one pass over half the cell stencil, entries sized from the last build's list
-        nb_j = nbr.find_pairs_serial(n, x, r, skin, cell_of, slab_of, cell_start, cell_list,
+        nb_j = nbr.find_pairs_serial(n, xs, skin, cell_of, slab_of, cell_start, cell_list,
                                      dims, nb_start, _guess(old, "j", n))
     else:
         counts = np.empty(n, np.int64)
@@ -111,18 +121,17 @@ def build_lists(store, walls, old, ids_at_build, *, lo, hi, skin, parallel_min_n
     npair = len(nb_j)
     hist = np.zeros((npair, 3))
     pact = np.zeros(npair, np.uint8)
-    # new row -> old row through the ids at the last build
-    ids = store.particle["id"][:n]
+    # new row -> old row (through the ids at the last build if the rows changed)
     built = ids_at_build is not None
     if built and len(ids_at_build):
-        old_of_new = rows_of(ids_at_build, ids)
+        old_of_new = perm if same_rows else rows_of(ids_at_build, ids)
         nbr.carry_pair_history(n, nb_start, nb_j, hist, pact, old_of_new, old.start, old.j,
                                old.hist, old.active)
     else:
         old_of_new = np.full(n, -1, np.int64)
     mc_start, mc_tri, mc_hist = _triangle_candidates(
-        walls.mesh_state, x, r, cell_start, cell_list, g_lo, inv_cs, dims, rmax, skin, old,
-        old_of_new, built)
+        walls.mesh_state, xs, cell_start, cell_list, g_lo, inv_cs, dims, rmax, skin, old,
+        old_of_new, built, n)
     pairs = Pairs(slab_start, slab_list, nb_start, nb_j, hist, pact, mc_start, mc_tri,
                   mc_hist)
     pl = walls.plane_state
@@ -140,15 +149,14 @@ def _guess(old, field, n):
     return int(1.25 * last) + 64
 
 
-def _triangle_candidates(M, x, r, cell_start, cell_list, lo, inv_cs, dims, rmax, skin, old,
-                         old_of_new, built):
-    """Triangle candidates of each particle (one pass over the triangles on one thread:
-    :func:`gsi.dem.neighbour.near_triangles_by_cell`), their springs carried over from
-    ``old``."""
-    n = len(x)
+def _triangle_candidates(M, xs, cell_start, cell_list, lo, inv_cs, dims, rmax, skin, old,
+                         old_of_new, built, n):
+    """Triangle candidates of each of the ``n`` particles (one pass over the triangles on
+    one thread: :func:`gsi.dem.neighbour.near_triangles_by_cell`; ``xs`` their (x, R) in
+    cell order), their springs carried over from ``old``."""
     if not len(M.tri):
         return np.zeros(n + 1, np.int64), np.zeros(0, np.int32), np.zeros((0, 3))
-    mc_start, mc_tri = nbr.near_triangles_by_cell(x, r, skin, cell_start, cell_list, lo,
+    mc_start, mc_tri = nbr.near_triangles_by_cell(xs, skin, cell_start, cell_list, lo,
                                                   inv_cs, dims, rmax + skin, M.x, M.tri)
     mc_hist = np.zeros((len(mc_tri), 3))
     if built:

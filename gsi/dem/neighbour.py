@@ -29,6 +29,7 @@ from gsi.jit import njit, pjit, prange
 from gsi.dem.geometry import closest_point_triangle, triangle_normal
 from gsi.dem.contact_geometry import plane_distance
 from gsi.dem.cells import bin_cells, cell_coords, neighbour_cell
+from gsi.dem.wall_lanes import plane_count
 
 
 @njit
@@ -89,8 +90,8 @@ def cell_ordered(x, radius, cell_list):
 
 
 @njit
-def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_list, dims,
-                      nb_start, cap):
+def find_pairs_serial(n, xs, skin, cell_of, slab_of, cell_start, cell_list, dims, nb_start,
+                      cap):
     """The half list of :func:`find_pairs` in one serial pass over half the cell stencil
     (a small system on one thread): each cell meets its own particles after it and the
     13 cells after it in the walk of :func:`gsi.dem.cells.neighbour_cell`, so every pair
@@ -100,10 +101,10 @@ def find_pairs_serial(n, x, radius, skin, cell_of, slab_of, cell_start, cell_lis
     counting sort by owner (:func:`gsi.dem.cells.bin_cells`); a row lists its partners
     in the order found (:func:`sort_rows` orders them).  ``cap``: entries to allocate at
     first (grown by doubling).  Fills ``nb_start`` (n + 1); returns ``nb_j``.  Positions
-    and radii are read from a copy in cell order (:func:`cell_ordered`: the same values,
-    so the same pairs bit for bit; a 5,000-sphere drum's rebuild spent most of its time
-    here, in reads of partners scattered over x)."""
-    xs = cell_ordered(x, radius, cell_list)
+    and radii are read from ``xs``, their copy in cell order (:func:`cell_ordered`: the
+    same values, so the same pairs bit for bit; a 5,000-sphere drum's rebuild spent most
+    of its time here, in reads of partners scattered over x), made once per build for
+    this search and :func:`near_triangles_by_cell`."""
     ent_i = np.empty(cap, np.int64)
     ent_j = np.empty(cap, np.int32)
     m = 0
@@ -374,8 +375,8 @@ def carry_tri_history(n, mc_start, mc_tri, mc_hist, old_of_new, old_start, old_t
 
 
 @njit
-def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, dims, inflate,
-                           mv_x, mt):
+def near_triangles_by_cell(xs, skin, cell_start, cell_list, lo, inv_cs, dims, inflate, mv_x,
+                           mt):
     """The triangle candidates of every particle in one pass over the triangles: triangle t
     is a candidate of particle i when it lies closer than R_i + skin (the test of
     :func:`_near_triangles`, so the same sets).  Returns ``(mc_start (n+1), mc_tri)``,
@@ -389,13 +390,13 @@ def near_triangles_by_cell(x, radius, skin, cell_start, cell_list, lo, inv_cs, d
     the closest point).  A counting
     sort by particle (:func:`gsi.dem.cells.bin_cells`, stable) follows.  No triangle bins
     are built, and a particle meets only the triangles near its own cell's particles;
-    every particle must lie inside its cell (:func:`gsi.dem.cells.particle_grid`)."""
-    n = x.shape[0]
+    every particle must lie inside its cell (:func:`gsi.dem.cells.particle_grid`).  ``xs``:
+    the particles' (x, R) in cell order (:func:`cell_ordered`)."""
+    n = xs.shape[0]
     nt = mt.shape[0]
     cs = 1.0 / inv_cs
     half_diag = 0.5 * math.sqrt(cs[0] ** 2 + cs[1] ** 2 + cs[2] ** 2)
     plane_reach2 = (half_diag + inflate) ** 2 * (1.0 + 1e-9)
-    xs = cell_ordered(x, radius, cell_list)      # (x, R) in cell order
     cap = 4 * n + 64
     ent_i = np.empty(cap, np.int64)
     ent_t = np.empty(cap, np.int32)
@@ -456,12 +457,7 @@ def count_contacts(start, j, active, with_pairs, plane_mask, tri_count, out):
     (``tri_count``): what the force pass evaluated."""
     n = out.shape[0]
     for i in range(n):
-        c = tri_count[i]
-        m = plane_mask[i]
-        while m != 0:
-            m &= m - 1
-            c += 1
-        out[i] = c
+        out[i] = tri_count[i] + plane_count(plane_mask[i])
     if with_pairs:
         for i in range(n):
             for k in range(start[i], start[i + 1]):

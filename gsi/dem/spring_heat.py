@@ -7,7 +7,7 @@ spring from zero.  With ``dem.frictional_heating`` on, :func:`book_ended_springs
 the start of each slab task of the force pass, before the contacts are gathered: for
 each sphere pair and plane contact of the last step that no longer touches (the same
 tests as :func:`gsi.dem.pair_lanes.gather_pairs` and
-:func:`gsi.dem.wall_lanes.gather_walls`), the spring's energy 1/2 k_t |xi|^2 at the last
+:func:`gsi.dem.wall_lanes.gather_planes`), the spring's energy 1/2 k_t |xi|^2 at the last
 step's overlap (rebuilt one drift back, x - v dt, as in
 :mod:`gsi.dem.contact.dissipation`) goes into heat, half into each body (a plane's half
 into its ``friction_heat``).  Mesh-triangle contacts are not covered: their end is

@@ -1,7 +1,8 @@
 """Plane and mesh-triangle contacts in lanes: the wall path of the engine.
 
 A wall contact's geometry (normal, overlap, lever, the wall's velocity and temperature at
-the contact point) is written into a lane by :func:`gather_walls`, with R* = R_i,
+the contact point) is written into a lane by :func:`gather_planes` or
+:func:`gather_triangles`, with R* = R_i,
 m* = m_i, I* = I_i (a wall is infinitely large and heavy); the same contact model as for
 pairs runs over the lanes (:func:`gsi.dem.pair_lanes.evaluate_runs`), and
 :func:`finish_walls` adds each contact to its particle and keeps the wall's share for the
@@ -56,13 +57,64 @@ def wall_lane(W, n, i, P, nx, ny, nz, lever, delta, wvx, wvy, wvz, dtemp, hx, hy
 
 
 @njit(_nrt=False)
-def gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, n, row_i):
-    """The plane and triangle contacts of particle i into the wall buffer from lane ``n``.
+def gather_planes(i, P, pl, wc, plh, W, wi, wkind, wk, wp, wrow, n, row_i):
+    """The plane contacts of particle i into the wall buffer from lane ``n``: overlap
+    delta = R - (x - p).N, contact normal -N, lever R - delta, wall velocity
+    ``pl.velocity``; only the planes of ``wc.plane_cand[i]`` (within R + skin at the last
+    neighbour build, not 0) are looked at; a contact that ends restarts its spring
+    (``plh[i * npl + p]``).  Returns the next free lane.
 
-    Planes: overlap delta = R - (x - p).N, contact normal -N, lever R - delta, wall
-    velocity ``pl.velocity``; only the planes of ``wc.plane_cand[i]`` (within R + skin at
-    the last neighbour build) are looked at; a contact that ends restarts its spring
-    (``plh[i * npl + p]``).  Triangles: the closest points accepted by
+    A function of its own, apart from :func:`gather_triangles`, with only the bundles it
+    reads: small enough for LLVM to inline it into the slab task.  Together, as one
+    ``gather_walls`` that took every bundle, it was not inlined: a call per particle near
+    a wall with 712 scalar arguments (numba passes each array of a bundle member by
+    member).  The split made the settled ``settle`` bed's step 1.18x faster on one
+    thread (median of 16 paired runs, loaded host, bitwise the same trajectory;
+    docs/design.md, "Arguments of the force pass's calls")."""
+    ri = P.radius[i]
+    Ti = P.T[i]
+    xi0 = P.x[i, 0]
+    xi1 = P.x[i, 1]
+    xi2 = P.x[i, 2]
+    cand = wc.plane_cand[i]
+    npl = pl.point.shape[0]
+    base = i * npl
+    pmask = 0
+    was = wc.plane_mask[i]             # planes touched at the last step
+    for p in range(npl):
+        if not (cand >> p) & 1:
+            continue
+        Nx = pl.normal[p, 0]
+        Ny = pl.normal[p, 1]
+        Nz = pl.normal[p, 2]
+        dist = plane_distance(xi0, xi1, xi2, pl.point[p, 0], pl.point[p, 1],
+                              pl.point[p, 2], Nx, Ny, Nz)
+        delta = ri - dist
+        if delta <= 0.0:
+            if (was >> p) & 1:     # contact ended: the spring restarts
+                plh[base + p, 0] = 0.0
+                plh[base + p, 1] = 0.0
+                plh[base + p, 2] = 0.0
+            continue
+        pmask |= 1 << p
+        dtemp = pl.T[p] - Ti if pl.has_T[p] else 0.0
+        wall_lane(W, n, i, P, -Nx, -Ny, -Nz, dist, delta, pl.velocity[p, 0],
+                  pl.velocity[p, 1], pl.velocity[p, 2], dtemp, plh[base + p, 0],
+                  plh[base + p, 1], plh[base + p, 2])
+        wi[n] = i
+        wkind[n] = PLANE
+        wk[n] = base + p
+        wp[n] = p
+        wrow[n] = row_i + pl.type[p]
+        n += uint(1)
+    wc.plane_mask[i] = pmask
+    return n
+
+
+@njit(_nrt=False)
+def gather_triangles(i, P, pairs, M, wc, W, wi, wkind, wk, wp, wrow, n, row_i):
+    """The mesh-triangle contacts of particle i (triangle candidates or contacts at the
+    last step) into the wall buffer from lane ``n``: the closest points accepted by
     :func:`gsi.dem.mesh_dedup.select_triangle_contacts`; velocity and temperature at the
     point are the barycentric means of the vertex values.  Returns the next free lane."""
     ri = P.radius[i]
@@ -70,71 +122,37 @@ def gather_walls(i, P, pairs, pl, M, wc, plh, W, wi, wkind, wk, wp, wrow, n, row
     xi0 = P.x[i, 0]
     xi1 = P.x[i, 1]
     xi2 = P.x[i, 2]
-    cand = wc.plane_cand[i]
-    if cand != 0:
-        npl = pl.point.shape[0]
-        base = i * npl
-        pmask = 0
-        was = wc.plane_mask[i]             # planes touched at the last step
-        for p in range(npl):
-            if not (cand >> p) & 1:
-                continue
-            Nx = pl.normal[p, 0]
-            Ny = pl.normal[p, 1]
-            Nz = pl.normal[p, 2]
-            dist = plane_distance(xi0, xi1, xi2, pl.point[p, 0], pl.point[p, 1],
-                                  pl.point[p, 2], Nx, Ny, Nz)
-            delta = ri - dist
-            if delta <= 0.0:
-                if (was >> p) & 1:     # contact ended: the spring restarts
-                    plh[base + p, 0] = 0.0
-                    plh[base + p, 1] = 0.0
-                    plh[base + p, 2] = 0.0
-                continue
-            pmask |= 1 << p
-            dtemp = pl.T[p] - Ti if pl.has_T[p] else 0.0
-            wall_lane(W, n, i, P, -Nx, -Ny, -Nz, dist, delta, pl.velocity[p, 0],
-                      pl.velocity[p, 1], pl.velocity[p, 2], dtemp, plh[base + p, 0],
-                      plh[base + p, 1], plh[base + p, 2])
-            wi[n] = i
-            wkind[n] = PLANE
-            wk[n] = base + p
-            wp[n] = p
-            wrow[n] = row_i + pl.type[p]
-            n += uint(1)
-        wc.plane_mask[i] = pmask
-    if pairs.tri_start[i + 1] > pairs.tri_start[i] or wc.count[i] > 0:
-        ns = select_triangle_contacts(i, xi0, xi1, xi2, ri, pairs, M, wc)
-        wc.count[i] = ns
-        mv = M.v
-        for s in range(ns):
-            t = wc.tri[i, s]
-            ddx = wc.point[i, s, 0] - xi0
-            ddy = wc.point[i, s, 1] - xi1
-            ddz = wc.point[i, s, 2] - xi2
-            dist = math.sqrt(ddx * ddx + ddy * ddy + ddz * ddz)
-            a = M.tri[t, 0]
-            b = M.tri[t, 1]
-            c = M.tri[t, 2]
-            wa = wc.weight[i, s, 0]
-            wb = wc.weight[i, s, 1]
-            wcc = wc.weight[i, s, 2]
-            wl = M.tri_wall[t]
-            dtemp = 0.0
-            if M.wall_has_T[wl]:
-                dtemp = wa * M.T[a] + wb * M.T[b] + wcc * M.T[c] - Ti
-            k = wc.cand[i, s]
-            wall_lane(W, n, i, P, ddx / dist, ddy / dist, ddz / dist, dist, ri - dist,
-                      wa * mv[a, 0] + wb * mv[b, 0] + wcc * mv[c, 0],
-                      wa * mv[a, 1] + wb * mv[b, 1] + wcc * mv[c, 1],
-                      wa * mv[a, 2] + wb * mv[b, 2] + wcc * mv[c, 2], dtemp,
-                      pairs.tri_hist[k, 0], pairs.tri_hist[k, 1], pairs.tri_hist[k, 2])
-            wi[n] = i
-            wkind[n] = TRIANGLE
-            wk[n] = k
-            wp[n] = s
-            wrow[n] = row_i + M.wall_type[wl]
-            n += uint(1)
+    ns = select_triangle_contacts(i, xi0, xi1, xi2, ri, pairs, M, wc)
+    wc.count[i] = ns
+    mv = M.v
+    for s in range(ns):
+        t = wc.tri[i, s]
+        ddx = wc.point[i, s, 0] - xi0
+        ddy = wc.point[i, s, 1] - xi1
+        ddz = wc.point[i, s, 2] - xi2
+        dist = math.sqrt(ddx * ddx + ddy * ddy + ddz * ddz)
+        a = M.tri[t, 0]
+        b = M.tri[t, 1]
+        c = M.tri[t, 2]
+        wa = wc.weight[i, s, 0]
+        wb = wc.weight[i, s, 1]
+        wcc = wc.weight[i, s, 2]
+        wl = M.tri_wall[t]
+        dtemp = 0.0
+        if M.wall_has_T[wl]:
+            dtemp = wa * M.T[a] + wb * M.T[b] + wcc * M.T[c] - Ti
+        k = wc.cand[i, s]
+        wall_lane(W, n, i, P, ddx / dist, ddy / dist, ddz / dist, dist, ri - dist,
+                  wa * mv[a, 0] + wb * mv[b, 0] + wcc * mv[c, 0],
+                  wa * mv[a, 1] + wb * mv[b, 1] + wcc * mv[c, 1],
+                  wa * mv[a, 2] + wb * mv[b, 2] + wcc * mv[c, 2], dtemp,
+                  pairs.tri_hist[k, 0], pairs.tri_hist[k, 1], pairs.tri_hist[k, 2])
+        wi[n] = i
+        wkind[n] = TRIANGLE
+        wk[n] = k
+        wp[n] = s
+        wrow[n] = row_i + M.wall_type[wl]
+        n += uint(1)
     return n
 
 

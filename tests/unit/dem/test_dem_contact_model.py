@@ -122,7 +122,8 @@ def test_one_evaluation_site_for_pairs_planes_and_triangles():
     assert {f for f, c in calls.items() if "evaluate" in c} == {"evaluate_runs"}
     assert {f for f, c in calls.items() if "evaluate_runs" in c} == {"finish_pairs",
                                                                      "finish_walls"}
-    for f in ("gather_pairs", "finish_pairs", "gather_walls", "finish_walls"):
+    for f in ("gather_pairs", "finish_pairs", "gather_planes", "gather_triangles",
+              "finish_walls"):
         assert f in calls["slab_task"]
     law_modules = {"gsi.dem.contact.hertz", "gsi.dem.contact.linear",
                    "gsi.dem.contact.tangential", "gsi.dem.contact.rolling"}

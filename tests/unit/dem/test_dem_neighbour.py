@@ -233,7 +233,8 @@ def test_one_pass_serial_lists_equal_the_two_pass_parallel_ones(short):
     nbr.find_pairs(*args, counts, two_start, two_j, True)
     assert len(two_j) > 500
     one_start = np.zeros(n + 1, np.int64)
-    one_j = nbr.find_pairs_serial(*args, one_start, 7 if short else len(two_j) + 10)
+    one_j = nbr.find_pairs_serial(n, nbr.cell_ordered(x, r, cell_list), *args[3:], one_start,
+                                  7 if short else len(two_j) + 10)
     np.testing.assert_array_equal(one_start, two_start)
     nbr.sort_rows(one_start, one_j)
     nbr.sort_rows(two_start, two_j)
@@ -281,8 +282,9 @@ def test_triangle_candidates_are_exactly_the_triangles_within_reach(grid):
     cell_of = np.empty(n, np.int64)
     cells.cell_index(n, x, g_lo, inv_cs, dims, cell_of)
     cell_start, cell_list = cells.bin_cells(n, cell_of, int(dims.prod()))
-    mc_start, mc_tri = nbr.near_triangles_by_cell(x, r, skin, cell_start, cell_list, g_lo,
-                                                  inv_cs, dims, r.max() + skin, vx, tri)
+    mc_start, mc_tri = nbr.near_triangles_by_cell(nbr.cell_ordered(x, r, cell_list), skin,
+                                                  cell_start, cell_list, g_lo, inv_cs, dims,
+                                                  r.max() + skin, vx, tri)
     total = 0
     tv_lo, tv_hi = vx[tri].min(axis=1), vx[tri].max(axis=1)
     for i in range(n):
