@@ -344,7 +344,8 @@ def restore(geometry: DrumGeometry, state: dict, *, settle: float = 0.8, seed: i
 
 def extrapolation_member(k: int, geometry: DrumGeometry, start: dict, hot: np.ndarray,
                          dt: float, periods: int, twin_periods: int, *, settle: float = 0.5,
-                         sampling: tuple = (EVERY, 0.01)) -> dict:
+                         sampling: tuple = (EVERY, 0.01), twin_members: int | None = None
+                         ) -> dict:
     """Member ``k`` of a drum-extrapolation ensemble (the quick-drum and rolling tests
     run it in :func:`gsi.studies.ensemble.run_ensemble`'s workers).
 
@@ -355,11 +356,15 @@ def extrapolation_member(k: int, geometry: DrumGeometry, start: dict, hot: np.nd
     turn t0..t1 is logged with ``sampling`` = (n, Delta t_c^max s) and replayed for
     ``periods`` half turns against the DEM run on, with a twin DEM from t1 (every
     position moved by up to 1 nm) for ``twin_periods`` of them
-    (:func:`gsi.extrapolation.compare_with_dem`).
+    (:func:`gsi.extrapolation.compare_with_dem`). With ``twin_members`` only the members
+    ``k < twin_members`` run the twin (a quarter of a member's steps at two of four
+    periods): the reference DEM does not depend on it (it runs first), so eq. 10 and the
+    hot/cold gap of a member are the same with or without it, bit for bit.
 
     Returns the plain arrays the tests use (picklable): ``run`` (``log``, ``T``, ``x``,
     ``eps_abs``, ``eps_rel``, ``energy_error`` (eq. 10 per period), ``energy_drift``),
-    ``dem`` (``T``, ``x``, ``energy_drift``, ``twin``: ``T``, ``eps_abs``), ``seeds``
+    ``dem`` (``T``, ``x``, ``energy_drift``, ``twin``: ``T``, ``eps_abs``, or None),
+    ``seeds``
     (eq. 9's cells), ``hot`` (by log order), the hot-minus-cold gaps ``gap_dem``,
     ``gap_ext``, ``gap_twin`` at t1.., and ``seconds`` (wall) of the member.
     """
@@ -371,13 +376,15 @@ def extrapolation_member(k: int, geometry: DrumGeometry, start: dict, hot: np.nd
     perturb(sim.x, k)
     quarter = geometry.steps_per_turn // 4
     sim.step(quarter)                                           # spin-up to t0
+    with_twin = twin_members is None or k < twin_members
     r = compare_with_dem(sim, period_steps=2 * quarter, periods=periods,
-                         samplings=(tuple(sampling),), hot=hot, twin=1e-9,
-                         twin_periods=twin_periods)
+                         samplings=(tuple(sampling),), hot=hot,
+                         twin=1e-9 if with_twin else None,
+                         twin_periods=twin_periods if with_twin else None)
     run, dem = r["runs"][0], r["dem"]
     run = {key: run[key] for key in ("log", "T", "x", "eps_abs", "eps_rel", "energy_error",
                                      "energy_drift")}
-    twin = {key: dem["twin"][key] for key in ("T", "eps_abs")}
+    twin = {key: dem["twin"][key] for key in ("T", "eps_abs")} if with_twin else None
     dem = dict({key: dem[key] for key in ("T", "x", "energy_drift")}, twin=twin)
     h = hot[run["log"].ids]
 
@@ -385,5 +392,5 @@ def extrapolation_member(k: int, geometry: DrumGeometry, start: dict, hot: np.nd
         return T[:, h].mean(1) - T[:, ~h].mean(1)
 
     return dict(run=run, dem=dem, seeds=r["seeds"], hot=h, gap_dem=gap(dem["T"]),
-                gap_ext=gap(run["T"]), gap_twin=gap(twin["T"]),
+                gap_ext=gap(run["T"]), gap_twin=gap(twin["T"]) if with_twin else None,
                 seconds=time.perf_counter() - t)
