@@ -58,7 +58,9 @@ ensemble of 12), so mean + 3 SE <= 4 % (a point of margin) needs M >= 12: expect
 at M = 12, failing 5 % for about one redraw in 120-200 (normal model; resampling the 36).
 Measured, M = 12: 2.64 +- 0.47, 2.81 +- 0.45, 2.33 +- 0.40 % (mean +- SE), mean + 3 SE
 4.05, 4.16, 3.53 %; with M = 4 it was 4.95, 4.09, 4.61 %. Cost: 4 members with the twin
-and 8 without, about as much DEM as 10 full members (about +70 s on two idle cores).
+and 8 without, about as much DEM as 10 full members: the ensemble's set-up took 256 s of
+CPU against 112 s for M = 4 (so about 121 s against 53 s on two idle cores, +68 s; on the
+shared host 226 s at load 3-4 against 209 s at load 4-5).
 A reference with less chaos, eq. 10 against the mean heat moved of the DEM and its twin
 (two realisations from t1, as legitimate as one), was measured over t2, t3 on the same 36
 members: SE 1.06, 0.94, 0.69 % against 1.08, 1.04, 0.82 % for the DEM alone, about a
