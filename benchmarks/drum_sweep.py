@@ -23,7 +23,7 @@ mean of the members' mean |eq. 10| over the periods), ``eq10se_<p>_<s>``,
 
     python benchmarks/drum_sweep.py [--members 4] [--periods 3] [--periods-turns 0.25,0.5]
         [--samplings 1:10,1:100,10:10,10:100] [--dt-scale 1] [--particles 640]
-        [--reference-period 5] [--twin-periods P]
+        [--reference-period 5] [--twin-periods P] [--workers W]
 
 ``--reference-period 15`` runs the seed's rolling regime (its Figs. 11a and 12: the
 80,000-particle drum at 15 s per turn, Fr = 0.0054) on the drum family's small drum
@@ -38,6 +38,15 @@ last-line keys ``excess_<p>_<s>`` (largest mean + 3 SE of the excess over the t_
 ``--dt-scale`` multiplies the DEM step (1.000000000001: the round-off check of the
 ensemble, another set of trajectories).  A member costs, per period length, one spin-up,
 one DEM period per sampling, and 2 x ``--periods`` periods of reference and twin.
+
+The members run side by side as the tests' do (:func:`gsi.studies.ensemble.run_ensemble`:
+spawned workers, one numba thread each, ``--workers`` at a time, default
+``NUMBA_NUM_THREADS``, ``GSI_ENSEMBLE_WORKERS`` or the cores); the settling is shared,
+passed to every member as a state. A member gives bitwise the result it gave when the
+members ran one after the other in this process (the same perturbation, and
+:func:`gsi.studies.drum.restore` continues a state bitwise), so the records before and
+after the change are comparable. ``--threads`` is the settling's numba threads.
+Last-line keys besides: ``seconds`` (wall, all), ``workers``.
 """
 from __future__ import annotations
 
@@ -52,14 +61,43 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-#: sub-nanometre start perturbation per member index (m), as tests/validation/conftest.py
-SHIFT = 0.5e-9
 
-
-def perturb(x, k):
-    """Member ``k``'s start: positions moved by up to k x SHIFT per coordinate."""
-    if k:
-        x += SHIFT * k * np.random.default_rng(k).uniform(-1.0, 1.0, x.shape)
+def _member(k, g, start, hot, dt, steps, periods, twin_periods, samplings):
+    # samplings: (n, Delta t_c^max in s)
+    """Member ``k`` of one period length (``steps`` DEM steps), run in a worker
+    (:func:`gsi.studies.ensemble.run_ensemble`): the shared settled ``start`` moved by
+    member ``k``'s perturbation (up to k x 0.5 nm per coordinate, as the tests'), a
+    quarter turn of spin-up to t0, then :func:`gsi.extrapolation.compare_with_dem` for
+    every sampling; only the numbers the report needs are returned (picklable)."""
+    from gsi.extrapolation import compare_with_dem, energy_transfer_error
+    from gsi.studies.drum import restore
+    from gsi.studies.ensemble import perturb
+    t = time.perf_counter()
+    sim, _ = restore(g, start, settle=0.5, dt=dt)
+    perturb(sim.x, k)
+    sim.step(g.steps_per_turn // 4)                             # spin-up to t0
+    with tempfile.TemporaryDirectory() as tmp:
+        r = compare_with_dem(sim, period_steps=steps, periods=periods, hot=hot, twin=1e-9,
+                             twin_periods=twin_periods,
+                             samplings=samplings, log_dir=tmp)
+    D, W = r["dem"]["T"], r["dem"]["twin"]["T"]
+    rows = []
+    for run in r["runs"]:
+        assert run["same_t1"]
+        h = hot[run["log"].ids]
+        gd = D[:, h].mean(1) - D[:, ~h].mean(1)
+        ge = run["T"][:, h].mean(1) - run["T"][:, ~h].mean(1)
+        rows.append(dict(eq10=run["energy_error"], ext=run["eps_abs"][:len(W) - 1],
+                         mb=run["file_bytes"] / 1e6, n=run["log"].n_collisions,
+                         bpc=run["log"].bytes_per_collision(),
+                         gap=np.abs(ge - gd)[1:] / gd[1:],
+                         moved_ext=np.abs(np.diff(run["T"], axis=0)).sum(1)))
+    # eq. 10 of the twin DEM against the DEM: the DEM's own chaos in the heat moved; and
+    # the heat the DEM moves per period, sum |T_n+1 - T_n| (K): eq. 10's denominator
+    return dict(rows=rows, twin=r["dem"]["twin"]["eps_abs"],
+                twin_eq10=[energy_transfer_error(D[n - 1], D[n], W[n - 1], W[n])
+                           for n in range(1, len(W))],
+                moved=np.abs(np.diff(D, axis=0)).sum(1), seconds=time.perf_counter() - t)
 
 
 def stat(v):
@@ -85,13 +123,18 @@ def main(argv=None):
     ap.add_argument("--reference-period", type=float, default=None,
                     help="the 80,000-particle drum's seconds per turn (default the seed's 5, "
                          "cascading; 15 is its rolling regime, Fig. 12)")
-    ap.add_argument("--threads", type=int, default=None)
+    ap.add_argument("--threads", type=int, default=None,
+                    help="numba threads of the shared settling (the members run on one each)")
+    ap.add_argument("--workers", type=int, default=None,
+                    help="members run at a time (default: NUMBA_NUM_THREADS, "
+                         "GSI_ENSEMBLE_WORKERS or the cores; 1: in this process)")
     args = ap.parse_args(argv)
     import numba
     if args.threads:
         numba.set_num_threads(args.threads)
     from gsi.studies.drum import DT, drum_geometry, prepare
-    from gsi.extrapolation import compare_with_dem, energy_transfer_error
+    from gsi.studies.ensemble import default_workers, run_ensemble
+    n_workers = max(1, min(args.members, args.workers or default_workers()))
     g = drum_geometry(args.particles, args.reference_period)
     dt = DT * args.dt_scale
     samplings = [tuple(int(a) for a in s.split(":")) for s in args.samplings.split(",")]
@@ -99,57 +142,34 @@ def main(argv=None):
     print(f"drum: {g.particles} particles, R = {g.radius:.4g} m, {g.period:.4g} s per turn, "
           f"Fr = {g.froude:.4g} ({g.regime}); dt = {dt!r}; M = {args.members}; samplings "
           f"(n, Delta t_c^max steps) {samplings}; periods {turns} turns; threads "
-          f"{numba.get_num_threads()}", flush=True)
+          f"{numba.get_num_threads()} (settling), {n_workers} members at a time",
+          flush=True)
     t_all = time.perf_counter()
     sim, hot, _ = prepare(g, settle=0.5, spin_up=0.0, dt=dt)
     start = sim.state()
-    quarter = g.steps_per_turn // 4
     res = {}
     out = {"particles": g.particles, "members": args.members, "dt_scale": args.dt_scale,
            "s_per_turn": g.period, "froude": g.froude, "regime": g.regime}
     for f in turns:
         steps = int(round(f * g.steps_per_turn))
         pname = {0.25: "q", 0.5: "h", 1.0: "f"}.get(f, f"t{f:g}")
-        rows = {s: dict(eq10=[], ext=[], mb=[], n=[], bpc=[], gap=[]) for s in samplings}
-        twin, twin_eq10, moved = [], [], []
-        for k in range(args.members):
-            t = time.perf_counter()
-            sim.set_state(start)
-            perturb(sim.x, k)
-            sim.step(quarter)                                   # spin-up to t0
-            with tempfile.TemporaryDirectory() as tmp:
-                r = compare_with_dem(
-                    sim, period_steps=steps, periods=args.periods, hot=hot, twin=1e-9,
-                    twin_periods=args.twin_periods,
-                    samplings=[(n, m * DT * args.dt_scale) for n, m in samplings],
-                    log_dir=tmp)
-                for s, run in zip(samplings, r["runs"]):
-                    assert run["same_t1"]
-                    d = rows[s]
-                    d["eq10"].append(run["energy_error"])
-                    d["ext"].append(run["eps_abs"][:len(r["dem"]["twin"]["eps_abs"])])
-                    d["mb"].append(run["file_bytes"] / 1e6)
-                    d["n"].append(run["log"].n_collisions)
-                    d["bpc"].append(run["log"].bytes_per_collision())
-                    h = hot[run["log"].ids]
-                    dem_T = r["dem"]["T"]
-                    gd = dem_T[:, h].mean(1) - dem_T[:, ~h].mean(1)
-                    ge = run["T"][:, h].mean(1) - run["T"][:, ~h].mean(1)
-                    d["gap"].append(np.abs(ge - gd)[1:] / gd[1:])
-            twin.append(r["dem"]["twin"]["eps_abs"])
-            D, W = r["dem"]["T"], r["dem"]["twin"]["T"]
-            # eq. 10 of the twin DEM against the DEM: the DEM's own chaos in the heat moved
-            twin_eq10.append([energy_transfer_error(D[n - 1], D[n], W[n - 1], W[n])
-                              for n in range(1, len(W))])
-            # the heat the DEM moves per period, sum |T_n+1 - T_n| (K): eq. 10's denominator
-            moved.append(np.abs(np.diff(D, axis=0)).sum(1))
-            for s_ in samplings:
-                rows[s_].setdefault("moved_ext", []).append(
-                    np.abs(np.diff(r["runs"][samplings.index(s_)]["T"], axis=0)).sum(1))
-            print(f"  {f:g} turn, member {k}: {time.perf_counter() - t:.0f} s; eq. 10 "
-                  + "; ".join(f"n{n}m{m} " + " ".join(f"{100 * e:+.1f}" for e in
-                                                       rows[(n, m)]["eq10"][-1])
-                              for n, m in samplings) + " %", flush=True)
+        t = time.perf_counter()
+        members = run_ensemble(_member, args.members, workers=args.workers,
+                               args=(g, start, hot, dt, steps, args.periods,
+                                     args.twin_periods,
+                                     [(n, m * DT * args.dt_scale) for n, m in samplings]))
+        rows = {s: {key: [m["rows"][i][key] for m in members] for key in members[0]["rows"][0]}
+                for i, s in enumerate(samplings)}
+        twin = [m["twin"] for m in members]
+        twin_eq10 = [m["twin_eq10"] for m in members]
+        moved = [m["moved"] for m in members]
+        for k, m in enumerate(members):
+            print(f"  {f:g} turn, member {k}: {m['seconds']:.0f} s; eq. 10 "
+                  + "; ".join(f"n{n}m{s} " + " ".join(f"{100 * e:+.1f}" for e in
+                                                       rows[(n, s)]["eq10"][k])
+                              for n, s in samplings) + " %", flush=True)
+        print(f"  {f:g} turn: {args.members} members in {time.perf_counter() - t:.0f} s wall "
+              f"({n_workers} at a time)", flush=True)
         tw_mean = np.mean(twin, 0)
         te = np.array(twin_eq10)
         tm, ts = stat(np.abs(te.mean(1)))
@@ -202,6 +222,7 @@ def main(argv=None):
                         f"eq10pooledse_{key}": float(ps)})
             res[(f, n, m)] = dict(eq10=e, ratio=ratio, mb=mb)
     out["seconds"] = time.perf_counter() - t_all
+    out["workers"] = n_workers
     out["dt_scale"] = repr(args.dt_scale)         # all digits: 1.000000000001
     print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
                    for k, v in out.items()))

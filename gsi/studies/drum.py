@@ -38,7 +38,7 @@ from gsi.errors import GsiInputError
 
 __all__ = ["DrumGeometry", "REFERENCE", "drum_geometry", "froude", "regime", "drum_case",
            "PARTICLE_RADIUS", "DT", "DT_SPLIT", "EVERY", "T_HOT", "T_COLD", "ROLLING_PERIOD",
-           "prepare", "restore"]
+           "prepare", "restore", "extrapolation_member"]
 
 #: particle radius (m), seed 003 Table 3
 PARTICLE_RADIUS = 0.005
@@ -340,3 +340,57 @@ def restore(geometry: DrumGeometry, state: dict, *, settle: float = 0.8, seed: i
     sim, _, _ = build_simulation(case, dt=case.check())
     sim.set_state(state)
     return sim, case
+
+
+def extrapolation_member(k: int, geometry: DrumGeometry, start: dict, hot: np.ndarray,
+                         dt: float, periods: int, twin_periods: int, *, settle: float = 0.5,
+                         sampling: tuple = (EVERY, 0.01), twin_members: int | None = None
+                         ) -> dict:
+    """Member ``k`` of a drum-extrapolation ensemble (the quick-drum and rolling tests
+    run it in :func:`gsi.studies.ensemble.run_ensemble`'s workers).
+
+    From ``start`` (a :meth:`~gsi.dem.Simulation.state` after :func:`prepare` with
+    ``spin_up=0``, so at the end of the settling, halves hot/cold by ``hot``) every
+    position is moved by member ``k``'s perturbation (up to k x 0.5 nm,
+    :func:`gsi.studies.ensemble.perturb`), the drum turns a quarter turn to t0, half a
+    turn t0..t1 is logged with ``sampling`` = (n, Delta t_c^max s) and replayed for
+    ``periods`` half turns against the DEM run on, with a twin DEM from t1 (every
+    position moved by up to 1 nm) for ``twin_periods`` of them
+    (:func:`gsi.extrapolation.compare_with_dem`). With ``twin_members`` only the members
+    ``k < twin_members`` run the twin (a quarter of a member's steps at two of four
+    periods): the reference DEM does not depend on it (it runs first), so eq. 10 and the
+    hot/cold gap of a member are the same with or without it, bit for bit.
+
+    Returns the plain arrays the tests use (picklable): ``run`` (``log``, ``T``, ``x``,
+    ``eps_abs``, ``eps_rel``, ``energy_error`` (eq. 10 per period), ``energy_drift``),
+    ``dem`` (``T``, ``x``, ``energy_drift``, ``twin``: ``T``, ``eps_abs``, or None),
+    ``seeds``
+    (eq. 9's cells), ``hot`` (by log order), the hot-minus-cold gaps ``gap_dem``,
+    ``gap_ext``, ``gap_twin`` at t1.., and ``seconds`` (wall) of the member.
+    """
+    import time
+    from gsi.extrapolation import compare_with_dem
+    from gsi.studies.ensemble import perturb
+    t = time.perf_counter()
+    sim, _ = restore(geometry, start, settle=settle, dt=dt)
+    perturb(sim.x, k)
+    quarter = geometry.steps_per_turn // 4
+    sim.step(quarter)                                           # spin-up to t0
+    with_twin = twin_members is None or k < twin_members
+    r = compare_with_dem(sim, period_steps=2 * quarter, periods=periods,
+                         samplings=(tuple(sampling),), hot=hot,
+                         twin=1e-9 if with_twin else None,
+                         twin_periods=twin_periods if with_twin else None)
+    run, dem = r["runs"][0], r["dem"]
+    run = {key: run[key] for key in ("log", "T", "x", "eps_abs", "eps_rel", "energy_error",
+                                     "energy_drift")}
+    twin = {key: dem["twin"][key] for key in ("T", "eps_abs")} if with_twin else None
+    dem = dict({key: dem[key] for key in ("T", "x", "energy_drift")}, twin=twin)
+    h = hot[run["log"].ids]
+
+    def gap(T):
+        return T[:, h].mean(1) - T[:, ~h].mean(1)
+
+    return dict(run=run, dem=dem, seeds=r["seeds"], hot=h, gap_dem=gap(dem["T"]),
+                gap_ext=gap(run["T"]), gap_twin=gap(twin["T"]) if with_twin else None,
+                seconds=time.perf_counter() - t)
