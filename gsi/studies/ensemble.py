@@ -90,12 +90,34 @@ def default_workers() -> int:
 WORKER_ENV = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
 
 
-def _worker_init() -> None:
-    """Runs first in every worker: one numba thread even if numba was imported before
-    the environment took effect (a ``__main__`` that imports gsi.dem)."""
+def _worker_init(parent: int) -> None:
+    """Runs first in every worker: it dies with ``parent`` (:func:`_die_with`), and runs
+    one numba thread even if numba was imported before the environment took effect (a
+    ``__main__`` that imports gsi.dem)."""
     import sys
+    _die_with(parent)
     if "numba" in sys.modules:
         sys.modules["numba"].set_num_threads(1)
+
+
+def _die_with(parent: int) -> None:
+    """On Linux, have the kernel kill this worker when the process that started it dies
+    (``prctl(PR_SET_PDEATHSIG, SIGKILL)``): a killed ensemble must not leave workers
+    running inside a numba call, where Python's own checks for a lost parent never run
+    (they ran on for minutes). ``parent`` is that process's id (0: not checked, as for
+    forkserver, whose workers' parent is the server): a parent already gone ends the
+    worker at once."""
+    import signal
+    import sys
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)
+    except (OSError, AttributeError):
+        return
+    if parent and os.getppid() != parent:
+        os._exit(1)
 
 
 def _call(member: Callable, k: int, args: tuple, kwargs: dict):
@@ -208,7 +230,8 @@ def _start(member, ks, args, kwargs, n, start_method):
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
     pool = ProcessPoolExecutor(n, mp_context=mp.get_context(start_method),
-                               initializer=_worker_init)
+                               initializer=_worker_init,
+                               initargs=(os.getpid() if start_method == "spawn" else 0,))
     saved = {key: os.environ.get(key) for key in WORKER_ENV}
     os.environ.update(WORKER_ENV)          # the workers start in submit() and inherit it
     try:
