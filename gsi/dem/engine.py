@@ -100,7 +100,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     lk = np.empty(CH, np.uint64)
     lj = np.empty(CH, np.uint64)
     lrow = np.empty(CH, np.int64)
-    brow = np.empty(CH, np.int64)
+    brow = np.empty(CH, np.uint64)
     blane = np.zeros(CH + 1, np.uint64)
     # wall batch: lanes, lane -> particle, kind, spring row, plane or slot, table row
     W = lane_buffer()
@@ -112,11 +112,13 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     n = uint(0)
     nrow = np.int64(0)     # not a literal 0 (gsi.jit: literals)
     nw = uint(0)
-    for m in range(pairs.slab_start[sl], pairs.slab_start[sl + 1]):
-        i = pairs.slab_list[m]
-        row_i = P.type[i] * nt
-        k0 = uint(pairs.start[i])
-        k_end = uint(pairs.start[i + 1])
+    for m in range(uint(pairs.slab_start[sl]), uint(pairs.slab_start[sl + 1])):
+        # a row index unsigned: numba tests a signed index for wrap-around at every
+        # array it indexes (three instructions each, about ten arrays per particle)
+        ui = uint(pairs.slab_list[m])
+        row_i = P.type[ui] * nt
+        k0 = uint(pairs.start[ui])
+        k_end = uint(pairs.start[ui + uint(1)])
         while k0 < k_end:              # a row longer than the room left spans batches
             if n == uint(CH) or nrow == CH:
                 finish_pairs(nrow, brow, blane, n, B, lk, lj, lrow, P, pairs, tab, dt,
@@ -126,14 +128,16 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
                 n = uint(0)
                 nrow = np.int64(0)
             k1 = min(k_end, k0 + (uint(CH) - n))
-            n = gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_on)
-            brow[nrow] = i
+            n = gather_pairs(ui, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on,
+                             heat_on)
+            brow[nrow] = ui
             nrow += 1
             blane[nrow] = n
             k0 = k1
-        cand = wc.plane_cand[i]
-        tri = pairs.tri_start[i + 1] > pairs.tri_start[i] or wc.count[i] > 0
+        cand = wc.plane_cand[ui]
+        tri = pairs.tri_start[ui + uint(1)] > pairs.tri_start[ui] or wc.count[ui] > 0
         if cand != 0 or tri:
+            i = np.int64(ui)
             if nw + uint(plane_count(cand) + MAX_WALL_SLOTS) > uint(CH):
                 finish_walls(nw, W, wi, wkind, wk, wp, wrow, sl, P, pairs, pl, M, wc, plh,
                              tab, dt, model, heat_on, pl_acc)

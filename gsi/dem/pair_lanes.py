@@ -59,6 +59,14 @@ def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_o
     mi = P.mass[i]
     Ii = P.inertia[i]
     Ti = P.T[i]
+    # i's velocities in locals: LLVM cannot keep them in registers itself (a store to B
+    # might alias v or omega, so it would load them again for every lane)
+    vi0 = v[i, 0]
+    vi1 = v[i, 1]
+    vi2 = v[i, 2]
+    wi0 = w[i, 0]
+    wi1 = w[i, 1]
+    wi2 = w[i, 2]
     for l in range(l0, n):
         j = lj[l]
         k = lk[l]
@@ -70,12 +78,12 @@ def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_o
         if roll_on:
             B[II + l] = Ii
             B[IJ + l] = P.inertia[j]
-        B[VX + l] = v[i, 0] - v[j, 0]
-        B[VY + l] = v[i, 1] - v[j, 1]
-        B[VZ + l] = v[i, 2] - v[j, 2]
-        B[WIX + l] = w[i, 0]
-        B[WIY + l] = w[i, 1]
-        B[WIZ + l] = w[i, 2]
+        B[VX + l] = vi0 - v[j, 0]
+        B[VY + l] = vi1 - v[j, 1]
+        B[VZ + l] = vi2 - v[j, 2]
+        B[WIX + l] = wi0
+        B[WIY + l] = wi1
+        B[WIZ + l] = wi2
         B[WX + l] = w[j, 0]
         B[WY + l] = w[j, 1]
         B[WZ + l] = w[j, 2]
