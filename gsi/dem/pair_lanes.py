@@ -142,10 +142,14 @@ def pair_geometry(n, B):
         B[DELTA + l] = delta
         B[AI + l] = a_i
         B[AJ + l] = a_j
-        B[REFF + l] = ri * rj / (ri + rj)
+        # R* = R_i R_j/(R_i + R_j) and m* = m_i m_j/(m_i + m_j) by one division
         mi = B[MI + l]
         mj = B[MJ + l]
-        B[MEFF + l] = mi * mj / (mi + mj)
+        rs = ri + rj
+        ms = mi + mj
+        inv = 1.0 / (rs * ms)
+        B[REFF + l] = ri * rj * ms * inv
+        B[MEFF + l] = mi * mj * rs * inv
 
 
 @njit(_nrt=False)

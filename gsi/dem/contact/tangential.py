@@ -56,10 +56,11 @@ def history(l0, l1, B, tab, row, dt):
         ftx *= c
         fty *= c
         ftz *= c
-        if slide:
-            xx = -ftx / k_t
-            xy = -fty / k_t
-            xz = -ftz / k_t
+        if slide:               # one division, not three (a loop of lanes computes both
+            r = -1.0 / k_t      # sides of the select)
+            xx = ftx * r
+            xy = fty * r
+            xz = ftz * r
         B[CT + l] = c
         B[HX + l] = xx
         B[HY + l] = xy
