@@ -43,7 +43,8 @@ from gsi.dem.contact_geometry import spheres_touch, wall_radius2, plane_distance
 from gsi.dem.fast_call import FastCall
 from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample, empty_log_state
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
-                               friction_correction, reduce_scans, verdict)
+                               friction_correction, reduce_scans, verdict,
+                               displacement_bound)
 from gsi.dem.pair_lanes import gather_pairs, finish_pairs, friction_pairs
 from gsi.dem.spring_heat import book_ended_springs
 from gsi.dem.wall_lanes import (gather_planes, gather_triangles, finish_walls, friction_walls,
@@ -95,6 +96,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     if fric_on and dt > 0.0:    # springs of ended contacts into heat
         book_ended_springs(sl, P, pairs, pl, wc, plh, tab, nt, dt, model[M_NORMAL], pl_acc)
     roll_on = model[M_ROLLING] != 0
+    multi = nt > 1       # more than one material type: a table row per lane
     # pair batch: lanes, lane -> pair row, partner, table row; batch rows and their lanes
     B = lane_buffer()
     lk = np.empty(CH, np.uint64)
@@ -129,7 +131,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
                 nrow = np.int64(0)
             k1 = min(k_end, k0 + (uint(CH) - n))
             n = gather_pairs(ui, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on,
-                             heat_on)
+                             heat_on, multi)
             brow[nrow] = ui
             nrow += 1
             blane[nrow] = n
@@ -230,12 +232,16 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
     plt = as_tuple(pl)
     Mt = as_tuple(M)
     wct = as_tuple(wc)
+    # a bound (m) on every particle's displacement since the lists were built: 0 when
+    # they were built at this drift (a resumed step), else the exact scan's
+    bound = 0.0
     if skip_first_drift or forces_only:
         clear_forces(P, gx, gy, gz)
     else:
         initial_integrate(P, half_dt, dt, gx, gy, gz)
         wd2 = move_walls(dt, pl, M)
         d2, nout, bad = scan(P, lo, hi, vmax2)
+        bound = math.sqrt(d2)
         code, info = verdict(d2, wd2, nout, bad, half_skin2)
         if code != 0:
             return 0, code, info
@@ -280,14 +286,20 @@ def advance(nsteps, skip_first_drift, dt, g, half_skin2, vmax2, lo, hi, P, pairs
                 initial_integrate(P, half_dt, dt, gx, gy, gz)
                 wd2 = move_walls(dt, pl, M)
                 d2, nout, bad = scan(P, lo, hi, vmax2)
+                bound = math.sqrt(d2)
                 code, info = verdict(d2, wd2, nout, bad, half_skin2)
                 if code != 0:
                     return s + 1, code, info
             continue
         if mode == 2:
-            # the next step has drifted: its walls move, then the scan decides
+            # the next step has drifted: its walls move, then the scan decides (the
+            # displacement from the bound, exact only near skin/2: displacement_bound)
             wd2 = move_walls(dt, pl, M)
-            d2, nout, bad = reduce_scans(scan_out)
+            s2max, nout, bad = reduce_scans(scan_out)
+            d2 = 0.0
+            if bad < 0:
+                d2, bound = displacement_bound(bound, dt, s2max, P, lo, hi, vmax2,
+                                               half_skin2)
             code, info = verdict(d2, wd2, nout, bad, half_skin2)
             if code != 0:
                 return s + 1, code, info

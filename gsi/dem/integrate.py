@@ -8,7 +8,7 @@ T += dt Q/(m c_p).  The per-particle pieces here are called by the engine
 """
 import numpy as np
 
-from gsi.jit import njit, pjit, prange
+from gsi.jit import njit, pjit, prange, uint
 from gsi.dem.state import Particles, as_tuple
 
 
@@ -121,9 +121,11 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
     """Particles ``slab_list[m0:m1]``, whose forces are complete: the second half kick
     v += dt/2 F/m, omega += dt/2 T/I and (``heat_on``) heat T += dt Q/(m c_p); with
     ``mode`` 2 also the next step's first half kick, drift and clear
-    (:func:`drift_one`), returning the scan of those particles: (max squared
-    displacement since build, number outside the domain, lowest row whose speed is NaN
-    or above sqrt(vmax2), else -1) as :func:`scan` does.
+    (:func:`drift_one`), returning the scan of those particles: (the largest squared
+    speed |v|^2 of the drift, number outside the domain, lowest row whose speed is NaN
+    or above sqrt(vmax2), else -1).  Not the displacement since the build, as
+    :func:`scan` returns: the engine bounds that by the sum of the steps' largest
+    drifts, dt max|v| (:func:`displacement_bound`), without reading ``x0``.
 
     With frictional heating, :func:`friction_correction` runs first, on the same rows.
 
@@ -142,9 +144,8 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
     w = P.omega
     f = P.force
     tq = P.torque
-    x0 = P.x0
-    for m in range(m0, m1):
-        i = slab_list[m]
+    for m in range(uint(m0), uint(m1)):
+        i = uint(slab_list[m])        # unsigned: no wrap-around tests (gsi.jit.uint)
         free = P.fixed[i] == 0
         # the two half kicks (this step's second, the next step's first) use the same
         # forces and the same factors: divide once (bitwise as kick_one twice)
@@ -171,30 +172,28 @@ def integrate_rows(m0, m1, slab_list, mode, heat_on, half_dt, dt, gx, gy, gz, P,
             x[i, 0] = X0
             x[i, 1] = X1
             x[i, 2] = X2
-        v[i, 0] = v0 if free else v[i, 0]
-        v[i, 1] = v1 if free else v[i, 1]
-        v[i, 2] = v2 if free else v[i, 2]
+        # the new velocity in registers too: the scan below reads these, not v[i] (a
+        # load right after the stores would wait for them)
+        v0 = v0 if free else v[i, 0]
+        v1 = v1 if free else v[i, 1]
+        v2 = v2 if free else v[i, 2]
+        v[i, 0] = v0
+        v[i, 1] = v1
+        v[i, 2] = v2
         w[i, 0] = w0 if free else w[i, 0]
         w[i, 1] = w1 if free else w[i, 1]
         w[i, 2] = w2 if free else w[i, 2]
         if mode == 2:
             clear_one(i, gx, gy, gz, P)
-            # scan_one of the new position and velocity
-            d0 = X0 - x0[i, 0]
-            d1 = X1 - x0[i, 1]
-            dz = X2 - x0[i, 2]
-            d2 = d0 * d0 + d1 * d1 + dz * dz
-            s0 = v[i, 0]
-            s1 = v[i, 1]
-            sz = v[i, 2]
-            s2 = s0 * s0 + s1 * s1 + sz * sz
-            if d2 > dmax:
-                dmax = d2
+            # the scan of the new position and velocity (the speed of the drift)
+            s2 = v0 * v0 + v1 * v1 + v2 * v2
+            if s2 > dmax:
+                dmax = s2
             inside = ((lo[0] <= X0) & (X0 <= hi[0]) & (lo[1] <= X1) & (X1 <= hi[1])
                       & (lo[2] <= X2) & (X2 <= hi[2]))
             nout += 1 - np.int64(inside)
-            if not (s2 <= vmax2) and (bad < 0 or i < bad):
-                bad = i
+            if not (s2 <= vmax2) and (bad < 0 or np.int64(i) < bad):
+                bad = np.int64(i)
     return dmax, nout, bad
 
 
@@ -227,8 +226,28 @@ def friction_correction(m0, m1, slab_list, half_dt, P):
 
 
 @njit
+def displacement_bound(bound, dt, s2max, P, lo, hi, vmax2, half_skin2):
+    """The squared displacement since the build to judge a rebuild by, and the new bound.
+
+    ``bound`` (m) bounds every particle's displacement since the build before this
+    step's drift; the drift moves each particle by dt |v| <= dt sqrt(``s2max``), so
+    ``bound + dt sqrt(s2max)`` bounds it after.  While that stays below 0.99 skin/2 no
+    rebuild is due and it is returned as it is; above, the exact largest displacement
+    is taken (:func:`scan`, which reads ``x0``) and becomes the new bound.  A rebuild
+    then comes at the same step as with the exact scan at every step (the bound is
+    never below the exact displacement; the 1 % covers its round-off), and the fused
+    integration does not read ``x0`` (nor compute the displacement) at every step."""
+    bound = bound + dt * np.sqrt(s2max)
+    if bound * bound < 0.9801 * half_skin2:
+        return bound * bound, bound
+    d2 = scan(P, lo, hi, vmax2)[0]
+    return d2, np.sqrt(d2)
+
+
+@njit
 def reduce_scans(scan_out):
-    """(max displacement^2, number outside, lowest bad row or -1) over the slabs' scans."""
+    """(largest squared speed, number outside, lowest bad row or -1) over the slabs' scans
+    (:func:`integrate_rows`)."""
     d2 = 0.0
     nout = 0
     bad = -1

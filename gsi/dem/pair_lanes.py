@@ -19,14 +19,15 @@ from gsi.dem.contact_geometry import spheres_touch
 
 
 @njit(_nrt=False)
-def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_on):
+def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_on, multi):
     """Candidates k0..k1-1 of particle i into the batch from lane ``n`` on.
 
     The contact test (``pairs.active``; the spring of a contact that ended restarts), the
     touching pairs compacted without a branch (every candidate is written at lane n,
     which advances only for a touching one: about half of a dense bed's candidates
     touch, at random, a coin flip for a branch), then the inputs of the new lanes
-    gathered (inertias only for a rolling model, temperatures only for a heat model).
+    gathered (inertias only for a rolling model, temperatures only for a heat model,
+    the table rows only with more than one material type, ``multi``).
     Returns the next free lane; the caller leaves room for all candidates."""
     x = P.x
     v = P.v
@@ -70,7 +71,8 @@ def gather_pairs(i, k0, k1, row_i, P, pairs, B, lk, lj, lrow, n, roll_on, heat_o
     for l in range(l0, n):
         j = lj[l]
         k = lk[l]
-        lrow[l] = row_i + P.type[j]
+        if multi:
+            lrow[l] = row_i + P.type[j]
         B[RI + l] = ri
         B[RJ + l] = P.radius[j]
         B[MI + l] = mi
@@ -235,7 +237,11 @@ def dissipative_impulse(B, l, i, j, P, dt):
 def evaluate_runs(n, B, lrow, tab, dt, model):
     """:func:`gsi.dem.contact.model.evaluate` over lanes 0..n-1, one call per run of lanes
     that share a pair-table row (a loop-invariant row keeps the table reads out of the
-    vectorizer's way; a one-type simulation has one run)."""
+    vectorizer's way); with one material type (a 1 x 1 table) one call, row 0, and
+    ``lrow`` is not read (:func:`gather_pairs` did not write it)."""
+    if tab.shape[0] == 1:
+        evaluate(uint(0), n, B, tab, np.int64(0), dt, model)
+        return
     l0 = uint(0)
     while l0 < n:
         l1 = l0 + uint(1)
