@@ -97,6 +97,7 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
         book_ended_springs(sl, P, pairs, pl, wc, plh, tab, nt, dt, model[M_NORMAL], pl_acc)
     roll_on = model[M_ROLLING] != 0
     multi = nt > 1       # more than one material type: a table row per lane
+    mesh_on = M.tri.shape[0] > 0
     # pair batch: lanes, lane -> pair row, partner, table row; batch rows and their lanes
     B = lane_buffer()
     lk = np.empty(CH, np.uint64)
@@ -137,7 +138,8 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
             blane[nrow] = n
             k0 = k1
         cand = wc.plane_cand[ui]
-        tri = pairs.tri_start[ui + uint(1)] > pairs.tri_start[ui] or wc.count[ui] > 0
+        tri = mesh_on and (pairs.tri_start[ui + uint(1)] > pairs.tri_start[ui]
+                           or wc.count[ui] > 0)
         if cand != 0 or tri:
             i = np.int64(ui)
             if nw + uint(plane_count(cand) + MAX_WALL_SLOTS) > uint(CH):
