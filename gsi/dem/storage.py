@@ -35,6 +35,27 @@ def row_items(arr):
         arr.shape[0])
 
 
+#: bytes between the 4 kB offsets of two successive fields (:func:`staggered_zeros`)
+STAGGER = 192
+
+
+def staggered_zeros(shape, dtype, slot):
+    """``np.zeros(shape, dtype)`` whose data start ``slot * STAGGER`` bytes past a 4 kB
+    boundary (modulo 4 kB).
+
+    Large arrays come from the system page-aligned, so without this the rows i of x, v,
+    omega, force, torque and x0 lie at the same address modulo 4 kB: in the same set of
+    the 8-way L1 cache, evicting each other, and each store to one looks to the CPU as
+    if it might feed a later load of another (4k aliasing).  Staggered, row i of each
+    field lies in a set of its own."""
+    dtype = np.dtype(dtype)
+    nbytes = math.prod(shape) * dtype.itemsize
+    buf = np.zeros(nbytes + 4096 + 64, np.uint8)
+    want = (slot * STAGGER) % 4096
+    off = (want - buf.ctypes.data) % 4096
+    return buf[off:off + nbytes].view(dtype).reshape(shape)
+
+
 class ParticleStore:
     """Arrays of every per-particle field, grown by doubling.
 
@@ -65,10 +86,12 @@ class ParticleStore:
 
     def allocate(self, cap: int) -> None:
         """Re-allocate every field at capacity ``cap`` (the first n rows kept)."""
+        slot = 0
         for store, fields in self._stores():
             for name, (trail, dtype) in fields.items():
                 rows = 0 if store is self.particle and name in self.unused else cap
-                arr = np.zeros(self._shape(rows, trail), dtype)
+                arr = staggered_zeros(self._shape(rows, trail), dtype, slot)
+                slot += 1
                 old = store.get(name)
                 if old is not None and self.n and rows:
                     src = old[: self.n]
@@ -82,8 +105,9 @@ class ParticleStore:
         slots (existing entries kept where they fit)."""
         self.n_planes = self.n_planes if n_planes is None else n_planes
         self.slots = self.slots if slots is None else slots
-        for name, (trail, dtype) in WALL_CONTACT_FIELDS.items():
-            arr = np.zeros(self._shape(self.capacity, trail), dtype)
+        for slot, (name, (trail, dtype)) in enumerate(WALL_CONTACT_FIELDS.items(),
+                                                      len(PARTICLE_FIELDS)):
+            arr = staggered_zeros(self._shape(self.capacity, trail), dtype, slot)
             if arr.shape == self.wall[name].shape:
                 continue
             old = self.wall[name]
