@@ -20,7 +20,9 @@ One DEM step (velocity Verlet, docs/design.md "DEM physics"):
 1. v += dt/2 F/m, x += dt v, omega += dt/2 T/I, then F = m g, T = 0, Q = 0 for the
    new forces; walls move.
 2. scan: largest displacement since the last neighbour build (rebuild when it
-   exceeds skin/2), particles outside the domain, NaN or runaway velocities.
+   exceeds skin/2; taken from a bound, exactly only near skin/2:
+   :func:`gsi.dem.integrate.displacement_bound`), particles outside the domain, NaN or
+   runaway velocities.
 3. the force pass (parallel, two colours of slabs; see :func:`advance`): every contact once, added to
    both bodies.
 4. v += dt/2 F/m, omega += dt/2 T/I; T += dt Q/(m c_p).
