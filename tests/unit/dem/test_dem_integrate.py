@@ -5,8 +5,9 @@ body (selects instead of branches) for speed; it must stay bitwise what the per-
 pieces give: :func:`kick_one` (the second half kick), then, in mode 2,
 :func:`drift_one` (the next first half kick, drift, clear) and :func:`scan_one` (of
 which it returns the largest squared speed, not the displacement: the engine bounds
-that, :func:`gsi.dem.integrate.displacement_bound`, tested below).  The rows here include fixed particles, one outside the domain, one too fast and one with a
-NaN velocity, and are visited in a shuffled row order.
+that, :func:`gsi.dem.integrate.displacement_bound`, tested below).  The rows here
+include fixed particles, one outside the domain, one too fast and one with a NaN
+velocity, and are visited in a shuffled row order.
 """
 import numpy as np
 import pytest
