@@ -156,3 +156,53 @@ else:
 #: wrap-around, see gsi/dem/engine.py); plain int without JIT, where numpy would turn
 #: ``uint64 + int`` into a float
 uint = int if DISABLE_JIT else numpy.uint64
+
+
+def _prefetch_intrinsic(write):
+    """``prefetch(a, i)``: LLVM's ``llvm.prefetch`` of the first element of row ``i`` of
+    array ``a`` (for reading, or with ``write`` for writing: the line arrives owned)."""
+    from llvmlite import ir
+    from numba import types
+    from numba.core import cgutils
+    from numba.extending import intrinsic
+
+    @intrinsic
+    def prefetch(typingctx, arr, idx):
+        """A hint that row ``idx`` of ``arr`` is needed soon (no bounds test: a prefetch
+        of an address outside the array is dropped by the CPU, never faults)."""
+        if not isinstance(arr, types.Array) or not isinstance(idx, types.Integer):
+            return None
+
+        def codegen(context, builder, sig, args):
+            aryty = sig.args[0]
+            ary = context.make_array(aryty)(context, builder, args[0])
+            i = context.cast(builder, args[1], sig.args[1], types.intp)
+            zero = context.get_constant(types.intp, 0)
+            ptr = cgutils.get_item_pointer2(context, builder, ary.data,
+                                            cgutils.unpack_tuple(builder, ary.shape),
+                                            cgutils.unpack_tuple(builder, ary.strides),
+                                            aryty.layout, [i] + [zero] * (aryty.ndim - 1),
+                                            wraparound=False)
+            i8p = ir.IntType(8).as_pointer()
+            i32 = ir.IntType(32)
+            fn = cgutils.get_or_insert_function(
+                builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
+                "llvm.prefetch.p0i8")
+            # (address, 0 read / 1 write, locality 3: keep in all levels, 1: data)
+            builder.call(fn, [builder.bitcast(ptr, i8p), i32(int(write)), i32(3), i32(1)])
+            return context.get_dummy_value()
+        return types.void(arr, idx), codegen
+    return prefetch
+
+
+def _no_prefetch(arr, idx):
+    """Without JIT a prefetch hint does nothing."""
+
+
+#: ``prefetch(a, i)``, ``prefetch_w(a, i)``: ask the CPU to bring row ``i`` of ``a`` into
+#: the cache ahead of a read (a write).  The engine's force pass uses them for the rows
+#: a particle a few rows ahead will touch first (gsi/dem/engine.py, ``slab_task``): in a
+#: bed far larger than the last-level cache these come from memory, in an order the
+#: hardware prefetchers do not follow.
+prefetch = _no_prefetch if DISABLE_JIT else _prefetch_intrinsic(False)
+prefetch_w = _no_prefetch if DISABLE_JIT else _prefetch_intrinsic(True)

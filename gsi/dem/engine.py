@@ -47,7 +47,8 @@ from gsi.dem.contact_log import C_NEXT, C_STEP, has_room, sample, empty_log_stat
 from gsi.dem.integrate import (clear_forces, initial_integrate, scan, integrate_rows,
                                friction_correction, reduce_scans, verdict,
                                displacement_bound)
-from gsi.dem.pair_lanes import gather_pairs, finish_pairs, friction_pairs
+from gsi.dem.pair_lanes import (gather_pairs, finish_pairs, friction_pairs, prefetch_ahead,
+                                PREFETCH_AHEAD)
 from gsi.dem.spring_heat import book_ended_springs
 from gsi.dem.wall_lanes import (gather_planes, gather_triangles, finish_walls, friction_walls,
                                 plane_count)
@@ -117,11 +118,14 @@ def slab_task(sl, colour, mode, dt, Pt, pairst, plt, Mt, wct, plh, tab, nt, mode
     n = uint(0)
     nrow = np.int64(0)     # not a literal 0 (gsi.jit: literals)
     nw = uint(0)
-    for m in range(uint(pairs.slab_start[sl]), uint(pairs.slab_start[sl + 1])):
+    m_end = uint(pairs.slab_start[sl + 1])
+    for m in range(uint(pairs.slab_start[sl]), m_end):
         # a row index unsigned: numba tests a signed index for wrap-around at every
         # array it indexes (three instructions each, about ten arrays per particle)
         ui = uint(pairs.slab_list[m])
         row_i = P.type[ui] * nt
+        prefetch_ahead(pairs.slab_list[min(m + uint(PREFETCH_AHEAD), m_end - uint(1))], P,
+                       pairs)
         k0 = uint(pairs.start[ui])
         k_end = uint(pairs.start[ui + uint(1)])
         while k0 < k_end:              # a row longer than the room left spans batches
