@@ -126,7 +126,7 @@ def main(argv=None):
     res = {}
     # a first, untimed child fills numba's cache if it is cold, so that every timed
     # child loads the engine compiled: a process that has just compiled it was seen to
-    # run it slower (the 19,773 bed at 7.7e6-8.3e6 instead of 1.05e7 particle steps/s)
+    # run it slower (the 19,773 bed at 7.4e6-8.3e6 instead of 1.05e7 particle steps/s)
     subprocess.run(child_cmd(args, 1, 1, warm=2, steps=2, min_seconds=0.0),
                    capture_output=True, text=True, check=True)
     for kx, ky in TILES:

@@ -23,8 +23,8 @@ One DEM step (velocity Verlet, docs/design.md "DEM physics"):
    exceeds skin/2; taken from a bound, exactly only near skin/2:
    :func:`gsi.dem.integrate.displacement_bound`), particles outside the domain, NaN or
    runaway velocities.
-3. the force pass (parallel, two colours of slabs; see :func:`advance`): every contact once, added to
-   both bodies.
+3. the force pass (parallel, two colours of slabs; see :func:`advance`): every contact
+   once, added to both bodies.
 4. v += dt/2 F/m, omega += dt/2 T/I; T += dt Q/(m c_p).
 5. serial sums of wall forces, torques and the coupling accumulators.
 

@@ -21,7 +21,8 @@ from gsi.dem.contact_geometry import spheres_touch
 
 
 #: particles ahead (in the visiting order) whose first-touched rows the force pass
-#: prefetches (:func:`prefetch_ahead`); 8, 12 and 16 measured alike at 200k particles
+#: prefetches (:func:`prefetch_ahead`); 12 measured alike at 197,730 particles, 16 (in a
+#: variant without the springs' middle line) no faster
 PREFETCH_AHEAD = 8
 
 
@@ -31,16 +32,16 @@ def prefetch_ahead(u, P, pairs):
     partner's position, radius, velocities, mass (read) and force and torque (written),
     and the lines of its springs ``pairs.hist`` (first, middle, last).
 
-    Rows are in visiting order (slabs along one axis, cells inside a slab), partners
-    ascending (:func:`gsi.dem.neighbour.sort_rows`), so a particle's last partner lies in the next slab, a slab ahead: the
-    leading edge of what the pass touches, and in a bed far larger than the last-level
-    cache, rows that come from memory in an order the hardware prefetchers do not
-    follow; the springs are a stream of their own, read and written.  On the settled
-    ``settle`` bed tiled 5 x 2 (197,730 particles), one thread, interleaved runs:
-    27.2-28.6 ms a step without, 23.5-24.3 with (+16 %); 988,650 particles 143-145 ->
-    129-132 ms (+10 %); at 19,773 particles, in cache, 1.87-1.90 -> 1.90-1.95 ms.  The
-    partner's rows alone (no springs) gained nothing; every partner's rows, not only
-    the last, cost 14 % at 19,773 particles (docs/design.md, "The large beds")."""
+    Rows are in visiting order (slabs along one axis, cells inside a slab) and partners
+    ascend (:func:`gsi.dem.neighbour.sort_rows`), so a particle's last partner usually
+    lies in the next slab: the leading edge of what the pass touches, which in a bed
+    far larger than the last-level cache comes from memory in an order the hardware
+    prefetchers do not follow; the springs are a stream of their own, read and written.
+    On the settled ``settle`` bed tiled 5 x 2 (197,730 particles), one thread,
+    interleaved runs: 27.2-28.6 ms a step without, 23.5-24.3 with; 988,650 particles
+    143-145 -> 129-132 ms; 19,773 particles, in cache, 1.87-1.90 -> 1.90-1.95 ms.  The
+    partner's rows without the springs gained nothing; every partner's rows, not only
+    the last, cost 11-17 % at 19,773 particles (docs/design.md, "The large beds")."""
     ua = uint(u)
     ka = uint(pairs.start[ua])
     kb = uint(pairs.start[ua + uint(1)])

@@ -107,10 +107,11 @@ class ParticleStore:
         self.slots = self.slots if slots is None else slots
         for slot, (name, (trail, dtype)) in enumerate(WALL_CONTACT_FIELDS.items(),
                                                       len(PARTICLE_FIELDS)):
-            arr = staggered_zeros(self._shape(self.capacity, trail), dtype, slot)
-            if arr.shape == self.wall[name].shape:
-                continue
+            shape = self._shape(self.capacity, trail)
             old = self.wall[name]
+            if shape == old.shape:
+                continue
+            arr = staggered_zeros(shape, dtype, slot)
             sl = tuple(slice(0, min(a, b)) for a, b in zip(old.shape, arr.shape))
             arr[sl] = old[sl]
             self.wall[name] = arr
